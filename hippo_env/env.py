@@ -1,0 +1,390 @@
+"""HippoMaze-v0: a Morris water maze for a simulated iRobot Create 2 with a rangefinder."""
+
+from __future__ import annotations
+
+import heapq
+import math
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from hippo_env import physics
+from hippo_env.maze import MazeSpec
+from hippo_env.sensors import Rangefinder
+
+ACTION_TYPES = ("discrete", "heading", "wheels")
+REWARD_TYPES = ("sparse", "dense")
+RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
+GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
+START_CLEARANCE = physics.ROBOT_RADIUS + 0.05  # m from every wall, for random starts
+DENSE_GRID = 0.1  # m, cell of the distance field behind reward_type="dense"
+
+
+class HippoMazeEnv(gym.Env):
+    """A Morris water maze with the delayed-match-to-place (DMTP) protocol.
+
+    ## Description
+    A simulated iRobot Create 2 (a disc of 0.17 m radius, pymunk physics) in a walled arena,
+    possibly with obstacles, searches for a hidden goal disk. It senses its surroundings only
+    through an omnidirectional rangefinder and a compass, as in Alabi, Vanderelst and Minai's
+    model of hippocampal navigation. Following DMTP, the goal stays in place across
+    :meth:`reset` calls (one "day" of runs) until moved with ``options``.
+
+    ## Action Space
+    - ``action_type="discrete"`` (default): ``Discrete(8)``; action ``k`` turns the robot in place
+      to the allocentric heading ``k * pi / 4`` (0 = +x, counter-clockwise) and drives it
+      straight at 0.5 m/s for one control step of 0.3 s (0.15 m, less if a wall is in the way).
+    - ``"heading"``: ``Box(-pi, pi, (1,))``, the allocentric heading to turn to, then one step as above.
+    - ``"wheels"``: ``Box(-1, 1, (2,))``, left and right wheel speeds as fractions of 0.5 m/s,
+      held for one control step.
+    An action outside the space raises ``ValueError``.
+
+    ## Observation Space
+    ``Dict(ranges=Box(0, max_range, (n_rays,), float32), heading=Box(-1, 1, (2,), float32))``.
+    ``ranges[i]`` is the distance to the nearest wall along ``heading + 2*pi*i/n_rays``
+    (egocentric, counter-clockwise), capped at ``max_range``, plus Gaussian noise of standard
+    deviation ``range_noise``. ``heading`` is ``(cos, sin)`` of the compass heading. The goal is
+    invisible.
+
+    ## Rewards
+    ``reward_type="sparse"`` (default): 1.0 on the step the robot's centre enters the goal disk,
+    else 0.0. ``"dense"`` (for baselines): the sparse reward plus ``0.1 x`` the progress made this
+    step along the shortest path to the goal, in units of one full step (0.15 m).
+
+    ## Starting State
+    The goal is drawn uniformly from the free space at least 0.5 m from every wall (or taken from
+    the maze file or ``options``). The start is drawn uniformly from the free space at least
+    1 m from the goal, facing a uniform random heading, unless ``options`` give it.
+
+    ## Episode End
+    Terminated when the robot reaches the goal. Truncated after ``max_episode_steps`` steps
+    (10,000 as registered: an honest exploring first run can take 8,000 steps), by the
+    ``TimeLimit`` wrapper that ``gym.make`` adds (and ``EpisodeEndInfo`` then adds ``indirectness``).
+
+    ## Info
+    Every step: ``position`` (x, y), ``heading`` (rad), ``goal`` (x, y), ``is_success``,
+    ``path_length`` (m since reset), ``shortest_path_length`` (m, geodesic from the episode's
+    start to the goal disk's edge around obstacles inflated by the robot's radius),
+    ``collision`` (a wall blocked the robot this step) and ``sim_time`` (simulated seconds since
+    reset, turns included). On the step that ends an episode, ``indirectness`` =
+    (path_length - shortest) / shortest. In a goal-free episode the goal and path figures are NaN.
+
+    ## Arguments
+    - ``maze``: a built-in name (``"open"``, ``"maze1"`` ... ``"maze4"``), a path to a maze JSON
+      file, or a :class:`~hippo_env.maze.MazeSpec`.
+    - ``n_rays`` (720), ``max_range`` (10.0 m), ``range_noise`` (0.0 m): the rangefinder.
+    - ``action_type``: ``"discrete"``, ``"heading"`` or ``"wheels"``.
+    - ``reward_type``: ``"sparse"`` or ``"dense"``.
+    - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
+    - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
+
+    ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
+    ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
+    ``{"start": [x, y], "heading": rad}`` (the start pose; each may be given alone).
+
+    ## Version History
+    - v0: first version.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+
+    def __init__(
+        self,
+        maze: str | Path | MazeSpec = "open",
+        n_rays: int = 720,
+        max_range: float = 10.0,
+        range_noise: float = 0.0,
+        action_type: str = "discrete",
+        reward_type: str = "sparse",
+        goal_radius: float = 0.3,
+        min_start_distance: float = 1.0,
+        render_mode: str | None = None,
+        render_rays: bool = False,
+    ) -> None:
+        if action_type not in ACTION_TYPES:
+            raise ValueError(f"action_type {action_type!r} is unknown; choose one of {', '.join(ACTION_TYPES)}")
+        if reward_type not in REWARD_TYPES:
+            raise ValueError(f"reward_type {reward_type!r} is unknown; choose one of {', '.join(REWARD_TYPES)}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode {render_mode!r} is unknown; choose None or one of {', '.join(self.metadata['render_modes'])}")
+        for name, value in (("range_noise", range_noise), ("goal_radius", goal_radius), ("min_start_distance", min_start_distance)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        if goal_radius <= 0:
+            raise ValueError(f"goal_radius must be positive, got {goal_radius!r}")
+        self.maze = MazeSpec.load(maze)
+        self.maze.check_connected(physics.ROBOT_RADIUS)
+        self.rangefinder = Rangefinder(self.maze.segments, n_rays, max_range)
+        self.world = physics.RobotWorld(self.maze)
+        self.range_noise = float(range_noise)
+        self.action_type = action_type
+        self.reward_type = reward_type
+        self.goal_radius = float(goal_radius)
+        self.min_start_distance = float(min_start_distance)
+        self.render_mode = render_mode
+        self.render_rays = bool(render_rays)
+
+        self.observation_space = spaces.Dict(
+            {
+                "ranges": spaces.Box(0.0, self.rangefinder.max_range, (self.rangefinder.n_rays,), np.float32),
+                "heading": spaces.Box(-1.0, 1.0, (2,), np.float32),
+            }
+        )
+        if action_type == "discrete":
+            self.action_space: spaces.Space = spaces.Discrete(8)
+        elif action_type == "heading":
+            self.action_space = spaces.Box(-math.pi, math.pi, (1,), np.float32)
+        else:
+            self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+
+        if self.maze.goal is not None:
+            self._check_goal(self.maze.goal, "the maze's goal")
+        self.goal: np.ndarray | None = None
+        self._goal_set = False  # no goal chosen yet (the first reset chooses one)
+        self._distance_field: tuple[np.ndarray, np.ndarray] | None = None
+        self._ranges = np.zeros(self.rangefinder.n_rays)
+        self._path: list[tuple[float, float]] = []
+        self._path_length = 0.0
+        self._shortest = math.nan
+        self._elapsed = 0
+        self._renderer = None
+
+    # ------------------------------------------------------------------ gymnasium API
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        super().reset(seed=seed)
+        options = dict(options or {})
+        unknown = sorted(set(options) - set(RESET_OPTIONS))
+        if unknown:
+            raise ValueError(f"reset options {unknown} are unknown; allowed: {', '.join(RESET_OPTIONS)}")
+        # Always draw a candidate goal, so that reset(seed=s) consumes the same random numbers
+        # whether or not the goal moves: the same seed then gives the same start.
+        candidate = self.maze.sample_free(self.np_random, GOAL_CLEARANCE)
+        if "goal" in options:
+            goal = options["goal"]
+            self.goal = None if goal is None else self._check_goal(goal, "reset option 'goal'")
+            self._goal_set = True
+            self._distance_field = None
+        elif options.get("new_goal") or not self._goal_set:
+            self.goal = candidate if (options.get("new_goal") or self.maze.goal is None) else np.asarray(self.maze.goal, float)
+            self._goal_set = True
+            self._distance_field = None
+
+        if "start" in options:
+            start = self._check_start(options["start"])
+        else:
+            start = self.maze.sample_free(self.np_random, START_CLEARANCE, away_from=self.goal, min_distance=self.min_start_distance)
+        heading = self.np_random.uniform(-math.pi, math.pi)
+        if "heading" in options:
+            heading = options["heading"]
+            if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
+                raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
+        self.world.reset(start, float(heading))
+        self._path = [self.world.position]
+        self._path_length = 0.0
+        self._elapsed = 0
+        self._shortest = self._shortest_path(start)
+        observation = self._observe()
+        if self.render_mode == "human":
+            self.render()
+        return observation, self._info(collision=False, success=False)
+
+    def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        before = self.world.position
+        if self.action_type == "discrete":
+            collision = self.world.drive_heading(self._discrete_action(action) * math.pi / 4)
+        elif self.action_type == "heading":
+            collision = self.world.drive_heading(float(self._box_action(action)[0]))
+        else:
+            left, right = self._box_action(action)
+            collision = self.world.drive_wheels(float(left), float(right))
+        after = self.world.position
+        self._path.append(after)
+        self._path_length += math.hypot(after[0] - before[0], after[1] - before[1])
+        self._elapsed += 1
+
+        success = self.goal is not None and math.hypot(after[0] - self.goal[0], after[1] - self.goal[1]) < self.goal_radius
+        reward = 1.0 if success else 0.0
+        if self.reward_type == "dense" and self.goal is not None:
+            progress = self._distance_to_goal(before) - self._distance_to_goal(after)
+            reward += 0.1 * progress / (physics.MAX_SPEED * physics.CONTROL_DT)
+        observation = self._observe()
+        info = self._info(collision=collision, success=success)
+        if success:
+            add_indirectness(info)
+        if self.render_mode == "human":
+            self.render()
+        return observation, reward, success, False, info
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode is None:
+            gym.logger.warn('render() was called without a render_mode; make the env with render_mode="rgb_array" or "human"')
+            return None
+        if self._renderer is None:
+            from hippo_env.render import Renderer
+
+            self._renderer = Renderer(self.maze, human=self.render_mode == "human")
+        return self._renderer.draw(self)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # ------------------------------------------------------------------ analysis helpers
+    def observation_at(self, position: tuple[float, float] | np.ndarray, heading: float = 0.0) -> dict[str, np.ndarray]:
+        """The noise-free observation the robot would get at a pose (does not move it)."""
+        ranges = self.rangefinder.scan(position, heading)
+        return {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(heading), math.sin(heading)], np.float32)}
+
+    @property
+    def path(self) -> np.ndarray:
+        """Positions since the last reset, one row per step (the start first)."""
+        return np.asarray(self._path).reshape(-1, 2)
+
+    # ------------------------------------------------------------------ internals
+    def _observe(self) -> dict[str, np.ndarray]:
+        heading = self.world.heading
+        ranges = self.rangefinder.scan(self._path[-1], heading)
+        self._ranges = ranges
+        if self.range_noise > 0:
+            ranges = np.clip(ranges + self.np_random.normal(0.0, self.range_noise, ranges.shape), 0.0, self.rangefinder.max_range)
+        return {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(heading), math.sin(heading)], np.float32)}
+
+    def _info(self, collision: bool, success: bool) -> dict[str, Any]:
+        goal = (math.nan, math.nan) if self.goal is None else (float(self.goal[0]), float(self.goal[1]))
+        return {
+            "position": self._path[-1],
+            "heading": self.world.heading,
+            "goal": goal,
+            "is_success": success,
+            "path_length": self._path_length,
+            "shortest_path_length": self._shortest,
+            "collision": collision,
+            "sim_time": self.world.sim_time,
+        }
+
+    def _discrete_action(self, action: Any) -> int:
+        if isinstance(action, np.ndarray) and action.shape == (1,):
+            action = action[0]  # what a vectorised policy hands a single env
+        if isinstance(action, (int, np.integer)) and not isinstance(action, (bool, np.bool_)) and 0 <= action < 8:
+            return int(action)
+        if isinstance(action, np.ndarray) and action.shape == () and np.issubdtype(action.dtype, np.integer) and 0 <= action < 8:
+            return int(action)
+        raise ValueError(f"action {action!r} is outside the action space Discrete(8); give an integer 0..7 (k means heading k*pi/4)")
+
+    def _box_action(self, action: Any) -> np.ndarray:
+        space = self.action_space
+        try:
+            values = np.asarray(action, dtype=np.float64).reshape(space.shape)
+        except (TypeError, ValueError):
+            values = None
+        ok = values is not None and bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
+        if not ok:
+            meaning = "[heading in radians]" if self.action_type == "heading" else "[left, right] wheel speeds"
+            raise ValueError(f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]")
+        return values
+
+    def _check_goal(self, goal: Any, where: str) -> np.ndarray:
+        point = _as_xy(goal, where)
+        if self.maze.clearance(point) < physics.ROBOT_RADIUS:
+            raise ValueError(
+                f"{where} ({point[0]:g}, {point[1]:g}) is inside a wall or obstacle, or too close to one for the robot to reach: "
+                f"a goal's centre needs clearance of at least {physics.ROBOT_RADIUS} m (the robot's radius) inside the "
+                f"{self.maze.size[0]:g} x {self.maze.size[1]:g} m arena"
+            )
+        return point
+
+    def _check_start(self, start: Any) -> np.ndarray:
+        point = _as_xy(start, "reset option 'start'")
+        if self.maze.clearance(point) < physics.ROBOT_RADIUS:
+            raise ValueError(
+                f"reset option 'start' ({point[0]:g}, {point[1]:g}) puts the robot inside or against a wall: "
+                f"its centre needs clearance of at least {physics.ROBOT_RADIUS} m from every wall"
+            )
+        if self.goal is not None and np.linalg.norm(point - self.goal) < self.goal_radius:
+            raise ValueError(f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk; start at least {self.goal_radius} m from the goal {tuple(self.goal)}")
+        return point
+
+    def _shortest_path(self, start: np.ndarray) -> float:
+        if self.goal is None:
+            return math.nan
+        return max(self.maze.geodesic(start, self.goal, physics.ROBOT_RADIUS) - self.goal_radius, 0.0)
+
+    def _distance_to_goal(self, position: np.ndarray) -> float:
+        """Geodesic distance to the goal, read off a grid distance field built once per goal."""
+        if self._distance_field is None:
+            self._distance_field = _distance_field(self.maze, self.goal)
+        field, origin = self._distance_field
+        col, row = ((position - origin) / DENSE_GRID).astype(int)
+        row = min(max(row, 0), field.shape[0] - 1)
+        col = min(max(col, 0), field.shape[1] - 1)
+        return float(field[row, col])
+
+
+def add_indirectness(info: dict[str, Any]) -> None:
+    """Put ``indirectness`` = (path_length - shortest) / shortest in an episode's last info."""
+    shortest = info["shortest_path_length"]
+    if math.isfinite(shortest) and shortest > 0:
+        info["indirectness"] = (info["path_length"] - shortest) / shortest
+
+
+class EpisodeEndInfo(gym.Wrapper, gym.utils.RecordConstructorArgs):
+    """Adds ``indirectness`` to the info of a run cut off by the time limit (applied by ``gym.make``).
+
+    The environment adds it itself when the goal is reached; only a wrapper outside
+    :class:`gymnasium.wrappers.TimeLimit` knows that a step was the last.
+    """
+
+    def __init__(self, env: gym.Env) -> None:
+        gym.utils.RecordConstructorArgs.__init__(self)
+        gym.Wrapper.__init__(self, env)
+
+    def step(self, action: Any):
+        observation, reward, terminated, truncated, info = self.env.step(action)
+        if truncated and not terminated:
+            add_indirectness(info)
+        return observation, reward, terminated, truncated, info
+
+
+def _as_xy(value: Any, where: str) -> np.ndarray:
+    try:
+        point = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        point = None
+    if point is None or point.shape != (2,) or not np.all(np.isfinite(point)):
+        raise ValueError(f"{where} must be a point [x, y] of two finite numbers in metres, got {value!r}")
+    return point
+
+
+def _distance_field(maze: MazeSpec, goal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shortest distances to ``goal`` over a grid of the free space (8-connected Dijkstra).
+
+    Cells a robot cannot occupy get the largest finite distance, so pushing against a wall never pays.
+    """
+    hw, hh = maze.half_extent
+    origin = np.array([-hw, -hh])
+    cols, rows = int(math.ceil(2 * hw / DENSE_GRID)), int(math.ceil(2 * hh / DENSE_GRID))
+    xs = origin[0] + (np.arange(cols) + 0.5) * DENSE_GRID
+    ys = origin[1] + (np.arange(rows) + 0.5) * DENSE_GRID
+    gx, gy = np.meshgrid(xs, ys)
+    free = np.array([maze.clearance((x, y)) >= physics.ROBOT_RADIUS for x, y in zip(gx.ravel(), gy.ravel())]).reshape(rows, cols)
+    field = np.full((rows, cols), np.inf)
+    g_col, g_row = ((goal - origin) / DENSE_GRID).astype(int)
+    field[g_row, g_col] = 0.0
+    queue = [(0.0, g_row, g_col)]
+    moves = [(dr, dc, DENSE_GRID * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
+    while queue:
+        dist, r, c = heapq.heappop(queue)
+        if dist > field[r, c]:
+            continue
+        for dr, dc, cost in moves:
+            rr, cc = r + dr, c + dc
+            if 0 <= rr < rows and 0 <= cc < cols and free[rr, cc] and dist + cost < field[rr, cc]:
+                field[rr, cc] = dist + cost
+                heapq.heappush(queue, (dist + cost, rr, cc))
+    finite = field[np.isfinite(field)]
+    field[~np.isfinite(field)] = finite.max() if finite.size else 0.0
+    return field, origin

@@ -1,0 +1,171 @@
+"""The pymunk world: static walls and an iRobot Create 2 body with a differential drive.
+
+Figures (from ``shared/reference/model-figures.md``): the Create 2 is a disc of 0.17 m radius,
+wheel axle 0.272 m, top speed 0.5 m/s, turning in place at about 105 deg/s. One control step
+lasts ``CONTROL_DT = 0.3 s`` of simulated time, 0.15 m of travel at top speed: one place-cell
+update of the reference robot (about 0.14 m).
+
+A heading command turns the robot in place toward the heading (taking ``angle / TURN_RATE``
+of simulated time; a disc turning in place touches nothing) and then drives it straight at top
+speed for one control step. A wheel command drives both wheels for one control step.
+
+Collisions are resolved by pymunk. Where the robot is further from every wall than it can
+travel in a step, one physics step integrates the whole control step exactly; near a wall the
+step is cut into substeps no longer than the gap to the nearest wall (and at least ``SKIN``,
+the margin of the collision disc), so that the robot never enters a wall, and a blocked robot
+slides along it or stops.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pymunk
+
+from hippo_env.maze import MazeSpec
+from hippo_env.sensors import _clearance
+
+ROBOT_RADIUS = 0.17  # m, Create 2 body
+AXLE_LENGTH = 0.272  # m, between the wheels
+MAX_SPEED = 0.5  # m/s at the wheel (16 rad/s x 0.031 m)
+TURN_RATE = math.radians(105.0)  # rad/s, turning in place
+CONTROL_DT = 0.3  # s of simulated time per env step
+ROBOT_MASS = 3.6  # kg
+SKIN = 0.01  # m: the collision disc's margin (a bumper), and a substep's travel near walls
+# Counted as a collision when the robot ends a step this much short of where it was sent.
+BLOCKED_TOLERANCE = 1e-4
+
+
+class RobotWorld:
+    """A pymunk space holding the maze's walls and the robot; rebuilt by :meth:`reset`.
+
+    Args:
+        maze: The maze whose walls the space holds.
+        radius: The robot's radius in metres.
+    """
+
+    def __init__(self, maze: MazeSpec, radius: float = ROBOT_RADIUS) -> None:
+        self.maze = maze
+        self.radius = float(radius)
+        self.segments = maze.segments
+        self.sim_time = 0.0
+        self.reset((0.0, 0.0), 0.0)
+
+    def reset(self, position: tuple[float, float] | np.ndarray, heading: float) -> None:
+        """A new space (nothing carried over from earlier episodes) with the robot at a pose."""
+        space = pymunk.Space()
+        space.collision_slop = 1e-4
+        space.iterations = 20
+        for x0, y0, x1, y1 in self.segments:
+            wall = pymunk.Segment(space.static_body, (x0, y0), (x1, y1), 0.0)
+            wall.friction = 0.0
+            wall.elasticity = 0.0
+            space.add(wall)
+        body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0.0, self.radius))
+        body.position = (float(position[0]), float(position[1]))
+        body.angle = float(heading)
+        # A contact skin: pymunk finds a contact only once shapes overlap, by at most one
+        # substep's travel near a wall, so the collision disc is that much larger than the robot.
+        shape = pymunk.Circle(body, self.radius + SKIN)
+        shape.friction = 0.0
+        shape.elasticity = 0.0
+        space.add(body, shape)
+        self.space, self.body = space, body
+        self.sim_time = 0.0
+
+    @property
+    def position(self) -> tuple[float, float]:
+        x, y = self.body.position
+        return (x, y)
+
+    @property
+    def heading(self) -> float:
+        """Compass heading in (-pi, pi]."""
+        return _wrap(self.body.angle)
+
+    def clearance(self) -> float:
+        """Distance from the robot's centre to the nearest wall."""
+        p = self.body.position
+        return _clearance(p.x, p.y, self.segments)
+
+    def drive_heading(self, heading: float) -> bool:
+        """Turn in place to ``heading`` (rad), then drive straight at top speed for one control step.
+
+        Returns whether a wall blocked the robot.
+        """
+        turn = abs(_wrap(heading - self.body.angle))
+        self.sim_time += turn / TURN_RATE
+        self.body.angle = _wrap(heading)
+        return self.drive_wheels(1.0, 1.0)
+
+    def drive_wheels(self, left: float, right: float) -> bool:
+        """Drive the wheels at ``left``, ``right`` in [-1, 1] of top speed for one control step.
+
+        Returns whether a wall blocked the robot.
+        """
+        speed = MAX_SPEED * (left + right) / 2.0
+        spin = MAX_SPEED * (right - left) / AXLE_LENGTH
+        body = self.body
+        start = body.position
+        start_angle = body.angle
+        gap = self.clearance() - self.radius
+        if gap > abs(speed) * CONTROL_DT + SKIN:
+            # No wall within reach: one physics step integrates the whole control step.
+            body.velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
+            body.angular_velocity = spin
+            self.space.step(CONTROL_DT)
+        else:
+            self._drive_near_walls(speed, spin)
+        body.velocity = (0.0, 0.0)
+        body.angular_velocity = 0.0
+        self.sim_time += CONTROL_DT
+        end_x, end_y = _unobstructed_end(start.x, start.y, start_angle, speed, spin)
+        x, y = body.position
+        return math.hypot(x - end_x, y - end_y) > BLOCKED_TOLERANCE
+
+    def _drive_near_walls(self, speed: float, spin: float) -> None:
+        """Substeps of ``SKIN`` travel, with the motors acting as forces.
+
+        pymunk moves a body with its velocity before it solves contacts, so the motors are the
+        force that brings the velocity to the commanded one, and the contact solver removes
+        whatever would push into a wall before the next substep moves the robot. A first substep
+        that does not move the robot shows the solver the new command. Substeps are all alike
+        (pymunk scales its cached contact impulses by the ratio of successive time steps)
+        until the robot is clear of every wall, when one step finishes the control step.
+        """
+        body, mass, moment = self.body, self.body.mass, self.body.moment
+        dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
+        remaining = CONTROL_DT
+        body.velocity = (0.0, 0.0)
+        priming = True
+        while remaining > 1e-12:
+            target = _chord_velocity(speed, spin, body.angle, dt)
+            velocity = body.velocity
+            body.force = (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt)
+            body.torque = moment * (spin - body.angular_velocity) / dt
+            self.space.step(dt)
+            if not priming:
+                remaining -= dt
+            priming = False
+            if self.clearance() - self.radius > abs(speed) * remaining + SKIN:
+                dt = remaining
+            else:
+                dt = min(dt, remaining)
+
+
+def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple[float, float]:
+    """The straight-line velocity that ends a substep where the wheels' arc would."""
+    half_turn = spin * dt / 2.0
+    chord_speed = speed * (math.sin(half_turn) / half_turn if half_turn else 1.0)
+    return (chord_speed * math.cos(angle + half_turn), chord_speed * math.sin(angle + half_turn))
+
+
+def _unobstructed_end(x: float, y: float, angle: float, speed: float, spin: float) -> tuple[float, float]:
+    """Where the robot would end the control step with no wall in the way."""
+    vx, vy = _chord_velocity(speed, spin, angle, CONTROL_DT)
+    return x + vx * CONTROL_DT, y + vy * CONTROL_DT
+
+
+def _wrap(angle: float) -> float:
+    return (angle + math.pi) % (2 * math.pi) - math.pi

@@ -1,0 +1,304 @@
+"""The Agent protocol every hippomaze agent follows, and the DMTP runner.
+
+An agent is any object with these methods (structural typing: no base class needed)::
+
+    class MyAgent:
+        def __init__(self, observation_space, action_space, seed=None): ...
+        def reset(self, observation, info) -> None: ...   # a run (episode) begins
+        def act(self, observation): ...                   # an action from env.action_space
+        def observe(self, action, observation, reward, terminated, truncated, info) -> None: ...
+        # optional:
+        def prepare(self, env) -> None: ...               # pre-exploration, with no goal
+        def start_trial(self, trial: int) -> None: ...    # a new DMTP day: the goal has moved
+
+``prepare`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
+terminates) and may step and reset it as often as it likes; every one of those steps counts
+in ``env_steps_total``. The agent must not read ``info["position"]`` or ``info["goal"]`` if it
+claims to navigate from its senses; the runner does not hide them, so that privileged
+reference agents can be written too (label them so).
+
+:func:`run_dmtp` runs the delayed-match-to-place protocol: ``trials`` days, each with a new
+goal, of ``runs`` runs each. Goals and starts are drawn by the runner from its own seeded
+generator, so every agent given the same seed faces exactly the same goals and starts.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+import gymnasium as gym
+import numpy as np
+
+from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
+from hippo_env.maze import MazeSpec
+
+REQUIRED_METHODS = ("reset", "act", "observe")
+
+
+@runtime_checkable
+class Agent(Protocol):
+    """What the runner calls. ``prepare`` and ``start_trial`` are optional (see the module doc)."""
+
+    def reset(self, observation: Any, info: dict[str, Any]) -> None: ...
+
+    def act(self, observation: Any) -> Any: ...
+
+    def observe(self, action: Any, observation: Any, reward: float, terminated: bool, truncated: bool, info: dict[str, Any]) -> None: ...
+
+
+AgentFactory = Callable[[gym.spaces.Space, gym.spaces.Space, int], Any]
+
+
+@dataclass
+class Episode:
+    """One run of one trial, as recorded in ``dmtp.json``."""
+
+    trial: int
+    run: int
+    steps: int
+    success: bool
+    path_length: float
+    shortest_path_length: float
+    indirectness: float
+    start: list[float]
+    goal: list[float]
+
+
+@dataclass
+class DMTPResult:
+    """Everything a DMTP experiment produced. ``paths[trial][run]`` is an (n, 2) array of positions."""
+
+    maze: str
+    agent: str
+    seed: int
+    trials: int
+    runs: int
+    env_steps_total: int = 0
+    episodes: list[Episode] = field(default_factory=list)
+    paths: list[list[np.ndarray]] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``dmtp.json`` record (paths and timing left out)."""
+        return {
+            "maze": self.maze,
+            "agent": self.agent,
+            "seed": self.seed,
+            "trials": self.trials,
+            "runs": self.runs,
+            "env_steps_total": self.env_steps_total,
+            "episodes": [_json_safe(asdict(e)) for e in self.episodes],
+        }
+
+    def save(self, out_dir: str | Path) -> Path:
+        """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``."""
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        path = out / "dmtp.json"
+        path.write_text(json.dumps(self.to_dict(), indent=1) + "\n")
+        np.savez_compressed(out / "paths.npz", **{f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)})
+        return path
+
+    def indirectness(self) -> np.ndarray:
+        """A (trials, runs) array of indirectness (NaN where not recorded)."""
+        table = np.full((self.trials, self.runs), np.nan)
+        for e in self.episodes:
+            table[e.trial, e.run] = e.indirectness
+        return table
+
+    def success(self) -> np.ndarray:
+        """A (trials, runs) boolean array: which runs reached the goal."""
+        table = np.zeros((self.trials, self.runs), dtype=bool)
+        for e in self.episodes:
+            table[e.trial, e.run] = e.success
+        return table
+
+    def summary(self) -> dict[str, Any]:
+        """Per-run medians, success rates, and the run-1 length vs run-2 indirectness correlation."""
+        ind, ok = self.indirectness(), self.success()
+        lengths = np.full((self.trials, self.runs), np.nan)
+        for e in self.episodes:
+            lengths[e.trial, e.run] = e.path_length
+        later = ind[:, 1:]
+        summary: dict[str, Any] = {
+            "median_indirectness": [_nan_to_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)],
+            "success_rate": [float(ok[:, r].mean()) for r in range(self.runs)],
+        }
+        if self.runs > 1:
+            summary["later_runs_success_rate"] = float(ok[:, 1:].mean())
+            summary["later_runs_below_1"] = float((later < 1.0).mean())
+            if self.trials > 2 and np.std(lengths[:, 0]) > 0 and np.std(ind[:, 1]) > 0:
+                summary["pearson_run1_length_run2_indirectness"] = float(np.corrcoef(lengths[:, 0], ind[:, 1])[0, 1])
+        return summary
+
+
+def load_agent_class(spec: str) -> type:
+    """Import ``module:Class`` (e.g. ``mypkg.agents:GreedyAgent``) and check it follows the protocol."""
+    if ":" not in spec:
+        raise ValueError(f"agent {spec!r} is unknown; give hippo, random, dqn, ppo, or module:Class for your own")
+    module_name, _, class_name = spec.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as err:
+        raise ValueError(f"agent {spec!r}: cannot import module {module_name!r} ({err})") from err
+    cls = getattr(module, class_name, None)
+    if cls is None:
+        raise ValueError(f"agent {spec!r}: module {module_name!r} has no attribute {class_name!r}")
+    missing = [m for m in REQUIRED_METHODS if not callable(getattr(cls, m, None))]
+    if missing:
+        raise ValueError(f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.protocol)")
+    return cls
+
+
+class _CountingEnv(gym.Wrapper):
+    """Counts every step taken through it; during pre-exploration it refuses to place a goal."""
+
+    def __init__(self, env: gym.Env, allow_goal: bool) -> None:
+        super().__init__(env)
+        self.steps = 0
+        self.allow_goal = allow_goal
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        if not self.allow_goal and options and ({"goal", "new_goal"} & set(options)) and options.get("goal", None) is not None:
+            raise ValueError("an agent may not place a goal during pre-exploration; reset without 'goal' or 'new_goal'")
+        return self.env.reset(seed=seed, options=options)
+
+    def step(self, action: Any):
+        self.steps += 1
+        return self.env.step(action)
+
+
+def run_dmtp(
+    make_agent: AgentFactory,
+    maze: str | Path | MazeSpec = "open",
+    trials: int = 20,
+    runs: int = 4,
+    seed: int = 0,
+    *,
+    agent_name: str = "agent",
+    same_start: bool = False,
+    fresh_agent_per_trial: bool = True,
+    env_kwargs: dict[str, Any] | None = None,
+    max_episode_steps: int | None = None,
+    progress: bool = True,
+    on_run_end: Callable[[int, int, Any, gym.Env], None] | None = None,
+) -> DMTPResult:
+    """Run the delayed-match-to-place protocol and record every episode.
+
+    Args:
+        make_agent: ``make_agent(observation_space, action_space, seed)`` returns an agent
+            (an agent class taking ``seed=`` fits, e.g. ``HippocampalAgent``).
+        maze: A built-in maze name, a JSON path or a spec.
+        trials: Days, each with a new goal.
+        runs: Runs per day; the first is naive about the new goal.
+        seed: Seeds the goals, starts, environment and agents.
+        agent_name: The name recorded in the result.
+        same_start: Start every run of a trial from the same place (the paper's Fig. 3).
+        fresh_agent_per_trial: A new agent (and its pre-exploration) for each trial, making trials
+            independent replicates; otherwise one agent lives through every trial.
+        env_kwargs: More arguments for ``gym.make("HippoMaze-v0", ...)``.
+        max_episode_steps: Overrides the registered limit of 10,000 steps per run.
+        progress: Show a progress bar.
+        on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
+    """
+    for name, value in (("trials", trials), ("runs", runs)):
+        if not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    spec = MazeSpec.load(maze)
+    make_kwargs = dict(env_kwargs or {})
+    if max_episode_steps is not None:
+        make_kwargs["max_episode_steps"] = max_episode_steps
+    env = gym.make("HippoMaze-v0", maze=spec, **make_kwargs)
+    counted = _CountingEnv(env, allow_goal=True)
+    rng = np.random.default_rng(seed)
+    agent_seeds = np.random.SeedSequence(seed).generate_state(trials)
+    result = DMTPResult(maze=spec.name, agent=agent_name, seed=int(seed), trials=int(trials), runs=int(runs))
+    began = time.perf_counter()
+    bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
+    env.reset(seed=int(seed), options={"goal": None})
+    agent = None
+    for trial in range(trials):
+        goal = spec.sample_free(rng, GOAL_CLEARANCE)
+        starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
+        if same_start:
+            starts = [starts[0]] * runs
+        if agent is None or fresh_agent_per_trial:
+            agent = make_agent(env.observation_space, env.action_space, int(agent_seeds[trial]))
+            _check_agent(agent)
+            if callable(getattr(agent, "prepare", None)):
+                env.reset(options={"goal": None})
+                explorer = _CountingEnv(env, allow_goal=False)
+                agent.prepare(explorer)
+                result.env_steps_total += explorer.steps
+        if callable(getattr(agent, "start_trial", None)):
+            agent.start_trial(trial)
+        trial_paths = []
+        for run in range(runs):
+            observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
+            agent.reset(observation, info)
+            steps_before = counted.steps
+            while True:
+                action = agent.act(observation)
+                observation, reward, terminated, truncated, info = counted.step(action)
+                agent.observe(action, observation, reward, terminated, truncated, info)
+                if terminated or truncated:
+                    break
+            trial_paths.append(env.unwrapped.path.copy())
+            result.episodes.append(
+                Episode(
+                    trial=trial,
+                    run=run,
+                    steps=counted.steps - steps_before,
+                    success=bool(info["is_success"]),
+                    path_length=float(info["path_length"]),
+                    shortest_path_length=float(info["shortest_path_length"]),
+                    indirectness=float(info.get("indirectness", math.nan)),
+                    start=[float(v) for v in starts[run]],
+                    goal=[float(v) for v in goal],
+                )
+            )
+            if on_run_end is not None:
+                on_run_end(trial, run, agent, env)
+            if bar is not None:
+                bar.set_postfix(trial=trial, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
+                bar.update(1)
+        result.paths.append(trial_paths)
+    result.env_steps_total += counted.steps
+    result.seconds = time.perf_counter() - began
+    if bar is not None:
+        bar.close()
+    env.close()
+    return result
+
+
+def _check_agent(agent: Any) -> None:
+    missing = [m for m in REQUIRED_METHODS if not callable(getattr(agent, m, None))]
+    if missing:
+        raise TypeError(f"{type(agent).__name__} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.protocol)")
+
+
+def _progress(total: int, description: str, enabled: bool):
+    if not enabled:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc=description, unit="run")
+
+
+def _nan_to_none(value: float) -> float | None:
+    return None if not math.isfinite(value) else value
+
+
+def _json_safe(record: dict[str, Any]) -> dict[str, Any]:
+    """NaN and infinity are not JSON: write them as null."""
+    return {k: (_nan_to_none(v) if isinstance(v, float) else v) for k, v in record.items()}
+
+
+__all__ = ["Agent", "DMTPResult", "Episode", "run_dmtp", "load_agent_class"]

@@ -1,0 +1,129 @@
+"""Drawing the maze, the robot, its path and rays: ``rgb_array`` frames and a ``human`` window.
+
+The figure is built once per environment; each frame only moves the robot, path and rays.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from hippo_env import physics
+from hippo_env.maze import MazeSpec
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from hippo_env.env import HippoMazeEnv
+
+WALL_COLOUR = "#4a4a4a"
+FLOOR_COLOUR = "#f4f1ea"
+GOAL_COLOUR = "#d62728"
+ROBOT_COLOUR = "#1f77b4"
+MAX_DRAWN_RAYS = 90
+
+
+def draw_maze(maze: MazeSpec, ax: Axes, goal: tuple[float, float] | np.ndarray | None = None, goal_radius: float = 0.3) -> Axes:
+    """Draw the arena, its obstacles and (optionally) a goal disk on ``ax``; returns ``ax``."""
+    from matplotlib.patches import Circle, Polygon, Rectangle
+
+    hw, hh = maze.half_extent
+    ax.add_patch(Rectangle((-hw, -hh), 2 * hw, 2 * hh, facecolor=FLOOR_COLOUR, edgecolor=WALL_COLOUR, linewidth=3, zorder=0))
+    for poly in maze.obstacles:
+        ax.add_patch(Polygon(poly, closed=True, facecolor=WALL_COLOUR, edgecolor=WALL_COLOUR, zorder=1))
+    if goal is not None and np.all(np.isfinite(goal)):
+        ax.add_patch(Circle(tuple(goal), goal_radius, facecolor="none", edgecolor=GOAL_COLOUR, linewidth=2, zorder=3))
+    margin = 0.1 * max(hw, hh)
+    ax.set_xlim(-hw - margin, hw + margin)
+    ax.set_ylim(-hh - margin, hh + margin)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    return ax
+
+
+def plot_maze(maze: MazeSpec | str, ax: Axes | None = None, goal: tuple[float, float] | None = None, title: str | None = None):
+    """A figure of a maze (a spec, a built-in name or a JSON path); returns ``(fig, ax)``."""
+    import matplotlib.pyplot as plt
+
+    spec = MazeSpec.load(maze)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(4, 4))
+    else:
+        fig = ax.figure
+    draw_maze(spec, ax, goal=goal if goal is not None else spec.goal)
+    ax.set_title(title if title is not None else spec.name)
+    return fig, ax
+
+
+class Renderer:
+    """Keeps one matplotlib figure per environment and redraws only what moves."""
+
+    def __init__(self, maze: MazeSpec, human: bool = False, size_px: int = 480) -> None:
+        import matplotlib
+
+        self.human = human
+        if human:
+            import matplotlib.pyplot as plt
+
+            plt.ion()
+            self.fig = plt.figure(figsize=(5, 5))
+        else:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+            from matplotlib.figure import Figure
+
+            self.fig = Figure(figsize=(size_px / 100, size_px / 100), dpi=100)
+            FigureCanvasAgg(self.fig)
+        from matplotlib.collections import LineCollection
+        from matplotlib.patches import Circle
+
+        self.ax = self.fig.add_axes((0.02, 0.02, 0.96, 0.96))
+        draw_maze(maze, self.ax)
+        self.ax.set_axis_off()
+        self.goal = Circle((0, 0), 0.3, facecolor="none", edgecolor=GOAL_COLOUR, linewidth=2, zorder=3, visible=False)
+        self.ax.add_patch(self.goal)
+        (self.path,) = self.ax.plot([], [], color=ROBOT_COLOUR, linewidth=1, alpha=0.7, zorder=2)
+        self.rays = LineCollection([], colors="#ff7f0e", linewidths=0.5, alpha=0.5, zorder=2)
+        self.ax.add_collection(self.rays)
+        self.body = Circle((0, 0), physics.ROBOT_RADIUS, facecolor=ROBOT_COLOUR, edgecolor="black", zorder=4)
+        self.ax.add_patch(self.body)
+        (self.nose,) = self.ax.plot([], [], color="white", linewidth=2, zorder=5)
+        self._matplotlib = matplotlib
+
+    def draw(self, env: HippoMazeEnv) -> np.ndarray | None:
+        x, y = env.world.position
+        heading = env.world.heading
+        self.body.center = (x, y)
+        r = physics.ROBOT_RADIUS
+        self.nose.set_data([x, x + r * math.cos(heading)], [y, y + r * math.sin(heading)])
+        path = env.path
+        self.path.set_data(path[:, 0], path[:, 1])
+        if env.goal is not None:
+            self.goal.center = tuple(env.goal)
+            self.goal.radius = env.goal_radius
+            self.goal.set_visible(True)
+        else:
+            self.goal.set_visible(False)
+        if env.render_rays:
+            n = env.rangefinder.n_rays
+            every = max(1, n // MAX_DRAWN_RAYS)
+            index = np.arange(0, n, every)
+            angles = heading + 2 * math.pi * index / n
+            ends = np.stack([x + env._ranges[index] * np.cos(angles), y + env._ranges[index] * np.sin(angles)], axis=1)
+            self.rays.set_segments([[(x, y), tuple(end)] for end in ends])
+        if self.human:
+            import matplotlib.pyplot as plt
+
+            self.fig.canvas.draw_idle()
+            plt.pause(1.0 / env.metadata["render_fps"])
+            return None
+        self.fig.canvas.draw()
+        return np.asarray(self.fig.canvas.buffer_rgba())[..., :3].copy()
+
+    def close(self) -> None:
+        if self.human:
+            import matplotlib.pyplot as plt
+
+            plt.close(self.fig)
