@@ -84,6 +84,9 @@ class HippoMazeEnv(gym.Env):
     ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
     ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
     ``{"start": [x, y], "heading": rad}`` (the start pose; each may be given alone).
+    Random starts keep 1 m from the current goal, so ``reset(seed=s)`` on an environment whose
+    goal was moved earlier in the day may start elsewhere than on a fresh one: the day's goal is
+    part of the state, as DMTP requires.
 
     ## Version History
     - v0: first version.
@@ -299,10 +302,11 @@ class HippoMazeEnv(gym.Env):
 
     def _check_start(self, start: Any) -> np.ndarray:
         point = _as_xy(start, "reset option 'start'")
-        if self.maze.clearance(point) < physics.ROBOT_RADIUS:
+        needed = physics.ROBOT_RADIUS + physics.SKIN  # the robot and its bumper
+        if self.maze.clearance(point) < needed:
             raise ValueError(
                 f"reset option 'start' ({point[0]:g}, {point[1]:g}) puts the robot inside or against a wall: "
-                f"its centre needs clearance of at least {physics.ROBOT_RADIUS} m from every wall"
+                f"its centre needs clearance of at least {needed:g} m from every wall"
             )
         if self.goal is not None and np.linalg.norm(point - self.goal) < self.goal_radius:
             raise ValueError(f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk; start at least {self.goal_radius} m from the goal {tuple(self.goal)}")

@@ -288,19 +288,21 @@ def _signed_area(pts: np.ndarray) -> float:
 
 def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str) -> None:
     pts = np.asarray(vertices, float)
-    if abs(_signed_area(pts)) < 1e-9:
-        raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
     n = len(pts)
+    for i in range(n):  # before the crossing test, which would report a repeated vertex as crossing edges
+        if np.allclose(pts[i], pts[(i + 1) % n]):
+            raise ValueError(f"{where} repeats vertex {i}; list each vertex once (the polygon closes itself)")
     for i in range(n):
         a, b = pts[i], pts[(i + 1) % n]
-        if np.allclose(a, b):
-            raise ValueError(f"{where} repeats vertex {i}; list each vertex once (the polygon closes itself)")
         for j in range(i + 1, n):
             if j == i or (j + 1) % n == i or j == (i + 1) % n:
                 continue  # neighbouring edges share a vertex
             c, d = pts[j], pts[(j + 1) % n]
             if _segments_intersect(a, b, c, d):
                 raise ValueError(f"{where} is self-intersecting (edges {i} and {j} cross); obstacles must be simple polygons")
+    if abs(_signed_area(pts)) < 1e-9:
+        raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
+
 
 
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:

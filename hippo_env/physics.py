@@ -11,9 +11,10 @@ speed for one control step. A wheel command drives both wheels for one control s
 
 Collisions are resolved by pymunk. Where the robot is further from every wall than it can
 travel in a step, one physics step integrates the whole control step exactly; near a wall the
-step is cut into substeps no longer than the gap to the nearest wall (and at least ``SKIN``,
-the margin of the collision disc), so that the robot never enters a wall, and a blocked robot
-slides along it or stops.
+step is cut into substeps of ``SKIN`` travel (the margin of the collision disc: 15 substeps at
+top speed, plus one that only shows the solver the new command) until the robot is clear of
+every wall again, so that the robot never enters a wall, and a blocked robot slides along it or
+stops. Steps near walls cost about three times a free step.
 """
 
 from __future__ import annotations

@@ -166,7 +166,7 @@ class _CountingEnv(gym.Wrapper):
         self.allow_goal = allow_goal
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        if not self.allow_goal and options and ({"goal", "new_goal"} & set(options)) and options.get("goal", None) is not None:
+        if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal")):
             raise ValueError("an agent may not place a goal during pre-exploration; reset without 'goal' or 'new_goal'")
         return self.env.reset(seed=seed, options=options)
 
@@ -187,13 +187,14 @@ def run_dmtp(
     fresh_agent_per_trial: bool = True,
     env_kwargs: dict[str, Any] | None = None,
     max_episode_steps: int | None = None,
+    step_budget: int | None = None,
     progress: bool = True,
     on_run_end: Callable[[int, int, Any, gym.Env], None] | None = None,
 ) -> DMTPResult:
     """Run the delayed-match-to-place protocol and record every episode.
 
     Args:
-        make_agent: ``make_agent(observation_space, action_space, seed)`` returns an agent
+        make_agent: ``make_agent(observation_space, action_space, seed=seed)`` returns an agent
             (an agent class taking ``seed=`` fits, e.g. ``HippocampalAgent``).
         maze: A built-in maze name, a JSON path or a spec.
         trials: Days, each with a new goal.
@@ -205,6 +206,8 @@ def run_dmtp(
             independent replicates; otherwise one agent lives through every trial.
         env_kwargs: More arguments for ``gym.make("HippoMaze-v0", ...)``.
         max_episode_steps: Overrides the registered limit of 10,000 steps per run.
+        step_budget: Stop once this many environment steps (pre-exploration included) have been
+            taken; the run cut short by the budget is not recorded, its steps are counted.
         progress: Show a progress bar.
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
     """
@@ -224,23 +227,32 @@ def run_dmtp(
     bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
     env.reset(seed=int(seed), options={"goal": None})
     agent = None
+    prepared_steps = 0
+
+    def budget_left() -> bool:
+        return step_budget is None or prepared_steps + counted.steps < step_budget
+
     for trial in range(trials):
+        if not budget_left():
+            break
         goal = spec.sample_free(rng, GOAL_CLEARANCE)
         starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
         if same_start:
             starts = [starts[0]] * runs
         if agent is None or fresh_agent_per_trial:
-            agent = make_agent(env.observation_space, env.action_space, int(agent_seeds[trial]))
+            agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
             _check_agent(agent)
             if callable(getattr(agent, "prepare", None)):
                 env.reset(options={"goal": None})
                 explorer = _CountingEnv(env, allow_goal=False)
                 agent.prepare(explorer)
-                result.env_steps_total += explorer.steps
+                prepared_steps += explorer.steps
         if callable(getattr(agent, "start_trial", None)):
             agent.start_trial(trial)
         trial_paths = []
         for run in range(runs):
+            if not budget_left():
+                break
             observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
             agent.reset(observation, info)
             steps_before = counted.steps
@@ -248,8 +260,10 @@ def run_dmtp(
                 action = agent.act(observation)
                 observation, reward, terminated, truncated, info = counted.step(action)
                 agent.observe(action, observation, reward, terminated, truncated, info)
-                if terminated or truncated:
+                if terminated or truncated or not budget_left():
                     break
+            if not (terminated or truncated):
+                break  # cut short by the step budget: not a run
             trial_paths.append(env.unwrapped.path.copy())
             result.episodes.append(
                 Episode(
@@ -270,7 +284,7 @@ def run_dmtp(
                 bar.set_postfix(trial=trial, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
                 bar.update(1)
         result.paths.append(trial_paths)
-    result.env_steps_total += counted.steps
+    result.env_steps_total = prepared_steps + counted.steps
     result.seconds = time.perf_counter() - began
     if bar is not None:
         bar.close()

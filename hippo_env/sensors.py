@@ -84,9 +84,9 @@ class Rangefinder:
     """
 
     def __init__(self, segments: np.ndarray, n_rays: int = 720, max_range: float = 10.0) -> None:
-        if int(n_rays) != n_rays or n_rays < 1:
+        if not isinstance(n_rays, (int, np.integer)) or isinstance(n_rays, bool) or n_rays < 1:
             raise ValueError(f"n_rays must be a positive integer, got {n_rays!r}")
-        if not (math.isfinite(max_range) and max_range > 0):
+        if not isinstance(max_range, (int, float, np.number)) or not (math.isfinite(max_range) and max_range > 0):
             raise ValueError(f"max_range must be a positive number of metres, got {max_range!r}")
         self.segments = np.ascontiguousarray(segments, dtype=np.float64)
         self.n_rays = int(n_rays)

@@ -1,0 +1,1 @@
+"""Benchmarks: runnable scripts that write JSON + figures (see ``benchmarks/results/``)."""

@@ -1,0 +1,197 @@
+"""Environment throughput: steps per second with uniformly random discrete actions.
+
+One process, through ``gym.make`` (all the registered wrappers), for every built-in maze at 64 and
+720 rays; then ``gym.make_vec(..., vectorization_mode="async")`` at 720 rays (total env steps/s).
+Episode resets are inside the timed loop, as in training. Each figure is the median of
+``--repeats`` timed runs of ``--steps`` steps after a warm-up.
+
+    python benchmarks/env_throughput.py                      # writes benchmarks/results/env_throughput.json
+    python benchmarks/env_throughput.py --steps 2000 --repeats 1 --out /tmp/quick.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import datetime
+import json
+import os
+import platform
+import shlex
+import statistics
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import gymnasium as gym
+import numba
+import numpy as np
+import pymunk
+
+import hippo_env
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+@dataclass
+class Args:
+    mazes: tuple[str, ...] = hippo_env.BUILTIN_MAZES
+    """the mazes to time"""
+    rays: tuple[int, ...] = (64, 720)
+    """rangefinder resolutions to time through gym.make"""
+    steps: int = 20_000
+    """timed steps per repeat (per sub-environment for the vector env)"""
+    warmup: int = 1_000
+    """untimed steps first (numba and pymunk warm up; caches fill)"""
+    repeats: int = 3
+    """timed repeats; the median is reported"""
+    vec_envs: int = 2
+    """sub-environments for the vector envs (0 skips them)"""
+    vec_modes: tuple[str, ...] = ("async", "sync")
+    """vectorization modes to time"""
+    vec_steps: int = 5_000
+    """timed vector steps per repeat (each steps every sub-environment)"""
+    vec_rays: int = 720
+    """rays for the vector envs"""
+    seed: int = 0
+    """seeds the environments and the random actions"""
+    target: float = 20_000.0
+    """steps/s aimed for at 720 rays on one core"""
+    out: str = "benchmarks/results/env_throughput.json"
+    """where the JSON goes (relative to the repository root unless absolute)"""
+
+
+def parse_args() -> Args:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    for f in dataclasses.fields(Args):
+        default = f.default
+        if isinstance(default, tuple):
+            parser.add_argument(f"--{f.name.replace('_', '-')}", nargs="+", type=type(default[0]), default=default)
+        else:
+            parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(default), default=default)
+    return Args(**{k: tuple(v) if isinstance(v, list) else v for k, v in vars(parser.parse_args()).items()})
+
+
+args = parse_args()
+rng = np.random.default_rng(args.seed)
+load_at_start = [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None  # a shared machine skews wall-clock rates
+print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
+
+
+# ---------------------------------------------------------------------- one env through gym.make
+def time_single(maze: str, n_rays: int) -> tuple[list[float], list[float]]:
+    """Steps per wall-clock second and per CPU second of this process (the second is robust to other load)."""
+    env = gym.make("HippoMaze-v0", maze=maze, n_rays=n_rays)
+    env.reset(seed=args.seed)
+    actions = rng.integers(0, 8, args.warmup + args.repeats * args.steps).tolist()
+    wall, cpu = [], []
+    for k in range(args.warmup):
+        _, _, terminated, truncated, _ = env.step(actions[k])
+        if terminated or truncated:
+            env.reset()
+    for r in range(args.repeats):
+        chunk = actions[args.warmup + r * args.steps : args.warmup + (r + 1) * args.steps]
+        began, began_cpu = time.perf_counter(), time.process_time()
+        for action in chunk:
+            _, _, terminated, truncated, _ = env.step(action)
+            if terminated or truncated:
+                env.reset()
+        wall.append(args.steps / (time.perf_counter() - began))
+        cpu.append(args.steps / (time.process_time() - began_cpu))
+    env.close()
+    return wall, cpu
+
+
+single = []
+for n_rays in args.rays:
+    for maze in args.mazes:
+        wall, cpu = time_single(maze, n_rays)
+        single.append(
+            {
+                "maze": maze,
+                "n_rays": n_rays,
+                "steps_per_second": round(statistics.median(wall)),
+                "steps_per_cpu_second": round(statistics.median(cpu)),
+                "repeats": [round(r) for r in wall],
+            }
+        )
+        print(
+            f"  gym.make   {maze:6s} {n_rays:4d} rays: {statistics.median(wall):9,.0f} steps/s ({statistics.median(cpu):,.0f} per CPU second)"
+        )
+
+
+# ---------------------------------------------------------------------- vector envs
+vector = []
+for mode in args.vec_modes if args.vec_envs > 0 else ():
+    for maze in args.mazes:
+        envs = gym.make_vec("HippoMaze-v0", num_envs=args.vec_envs, vectorization_mode=mode, maze=maze, n_rays=args.vec_rays)
+        envs.reset(seed=args.seed)
+        actions = rng.integers(0, 8, (args.warmup + args.repeats * args.vec_steps, args.vec_envs))
+        for k in range(args.warmup):
+            envs.step(actions[k])  # the vector env resets finished episodes itself
+        rates = []
+        for r in range(args.repeats):
+            began = time.perf_counter()
+            for action in actions[args.warmup + r * args.vec_steps : args.warmup + (r + 1) * args.vec_steps]:
+                envs.step(action)
+            rates.append(args.vec_steps * args.vec_envs / (time.perf_counter() - began))
+        envs.close()
+        vector.append(
+            {
+                "mode": mode,
+                "maze": maze,
+                "n_rays": args.vec_rays,
+                "num_envs": args.vec_envs,
+                "env_steps_per_second": round(statistics.median(rates)),
+                "repeats": [round(r) for r in rates],
+            }
+        )
+        print(
+            f"  {mode:5s} x{args.vec_envs}   {maze:6s} {args.vec_rays:4d} rays: {statistics.median(rates):9,.0f} env steps/s (all sub-envs)"
+        )
+
+
+# ---------------------------------------------------------------------- the record
+def cpu_model() -> str:
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return platform.processor()
+
+
+at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
+at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
+record = {
+    "command": shlex.join(
+        ["python", os.path.relpath(sys.argv[0], REPO) if Path(sys.argv[0]).is_absolute() else sys.argv[0], *sys.argv[1:]]
+    ),
+    "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+    "args": dataclasses.asdict(args),
+    "machine": {
+        "cpu_count": os.cpu_count(),
+        "cpus_usable": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
+        "cpu": cpu_model(),
+        "load_average_at_start": load_at_start,
+        "load_average_at_end": [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None,
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "pymunk": pymunk.version,
+        "numba": numba.__version__,
+        "gymnasium": gym.__version__,
+        "hippo_env": hippo_env.__version__,
+    },
+    "single_env": single,
+    "vector_env": vector,
+    "target_steps_per_second_720_rays": args.target,
+    "min_steps_per_second_720_rays": min(at_target_rays) if at_target_rays else None,
+    "min_steps_per_cpu_second_720_rays": min(at_target_rays_cpu) if at_target_rays_cpu else None,
+    "meets_target": bool(at_target_rays) and min(at_target_rays) >= args.target,
+}
+out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+out.parent.mkdir(parents=True, exist_ok=True)
+out.write_text(json.dumps(record, indent=1) + "\n")
+print(f"wrote {out}; slowest maze at 720 rays: {record['min_steps_per_second_720_rays']:,} steps/s (target {args.target:,.0f})")

@@ -1,0 +1,60 @@
+"""Every built-in maze side by side, for the README: ``docs/mazes.png``.
+
+python benchmarks/maze_pictures.py
+python benchmarks/maze_pictures.py --mazes open maze1 --out /tmp/mazes.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+import hippo_env
+from hippo_env.render import plot_maze
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+@dataclass
+class Args:
+    mazes: tuple[str, ...] = hippo_env.BUILTIN_MAZES
+    """built-in names or paths to maze JSON files, drawn left to right"""
+    panel_inches: float = 3.2
+    """width (and height) of one panel"""
+    dpi: int = 120
+    """resolution of the PNG"""
+    out: str = "docs/mazes.png"
+    """where the PNG goes (relative to the repository root unless absolute)"""
+
+
+def parse_args() -> Args:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    for f in dataclasses.fields(Args):
+        default = f.default
+        if isinstance(default, tuple):
+            parser.add_argument(f"--{f.name.replace('_', '-')}", nargs="+", type=type(default[0]), default=default)
+        else:
+            parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(default), default=default)
+    return Args(**{k: tuple(v) if isinstance(v, list) else v for k, v in vars(parser.parse_args()).items()})
+
+
+args = parse_args()
+fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
+for ax, maze in zip(axes[0], args.mazes):
+    plot_maze(maze, ax=ax)
+    ax.set_xticks([-5, 0, 5])
+    ax.set_yticks([-5, 0, 5])
+    if ax is not axes[0][0]:
+        ax.set_ylabel("")
+fig.tight_layout()
+out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+out.parent.mkdir(parents=True, exist_ok=True)
+fig.savefig(out, dpi=args.dpi)
+print(f"wrote {out}")

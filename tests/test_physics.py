@@ -1,0 +1,190 @@
+"""The robot's motion: free driving matches the kinematics, walls stop it or let it slide, and no
+sequence of actions puts it into (or closer than its radius to) a wall."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import hippo_env
+from hippo_env import HippoMazeEnv, physics
+
+R = physics.ROBOT_RADIUS
+STEP = physics.MAX_SPEED * physics.CONTROL_DT  # 0.15 m
+TOL = 1e-3
+
+_ENVS: dict[tuple[str, str], HippoMazeEnv] = {}
+
+
+def env_for(maze: str, action_type: str = "discrete") -> HippoMazeEnv:
+    """One environment per (maze, action type) for the whole module (construction checks connectivity)."""
+    key = (maze, action_type)
+    if key not in _ENVS:
+        _ENVS[key] = HippoMazeEnv(maze=maze, action_type=action_type, n_rays=8)
+    return _ENVS[key]
+
+
+def place(env, start, heading=0.0):
+    env.reset(seed=0, options={"goal": None, "start": list(start), "heading": heading})
+
+
+# ---------------------------------------------------------------------- free motion
+@pytest.mark.parametrize("k", range(8))
+def test_discrete_action_turns_then_drives_one_step(k):
+    env = env_for("open")
+    place(env, (0.0, 0.0), heading=0.0)
+    _, reward, terminated, truncated, info = env.step(k)
+    angle = k * math.pi / 4
+    np.testing.assert_allclose(info["position"], (STEP * math.cos(angle), STEP * math.sin(angle)), atol=1e-9)
+    assert math.cos(info["heading"] - angle) == pytest.approx(1.0)
+    assert info["path_length"] == pytest.approx(STEP)
+    assert not info["collision"] and not terminated and not truncated and reward == 0.0
+    turn = abs((angle + math.pi) % (2 * math.pi) - math.pi)
+    assert info["sim_time"] == pytest.approx(turn / physics.TURN_RATE + physics.CONTROL_DT)
+
+
+def test_heading_action():
+    env = env_for("open", "heading")
+    place(env, (1.0, -1.0), heading=2.0)
+    _, _, _, _, info = env.step(np.array([-2.5], np.float32))
+    heading = float(np.float32(-2.5))
+    np.testing.assert_allclose(info["position"], (1.0 + STEP * math.cos(heading), -1.0 + STEP * math.sin(heading)), atol=1e-6)
+    assert info["heading"] == pytest.approx(heading, abs=1e-6)
+
+
+@pytest.mark.parametrize("left,right", [(1.0, 1.0), (-1.0, -1.0), (0.5, 0.5), (-1.0, 1.0), (1.0, -1.0), (1.0, 0.5), (0.2, 0.9), (0.0, 0.0)])
+def test_wheels_follow_the_arc(left, right):
+    env = env_for("open", "wheels")
+    theta = 0.4
+    place(env, (0.5, 0.5), heading=theta)
+    _, _, _, _, info = env.step(np.array([left, right], np.float32))
+    v = physics.MAX_SPEED * (left + right) / 2
+    w = physics.MAX_SPEED * (right - left) / physics.AXLE_LENGTH
+    t = physics.CONTROL_DT
+    if w == 0:
+        expected = (0.5 + v * t * math.cos(theta), 0.5 + v * t * math.sin(theta))
+    else:  # the unicycle's circular arc
+        expected = (0.5 + v / w * (math.sin(theta + w * t) - math.sin(theta)), 0.5 - v / w * (math.cos(theta + w * t) - math.cos(theta)))
+    np.testing.assert_allclose(info["position"], expected, atol=1e-6)
+    assert math.cos(info["heading"] - (theta + w * t)) == pytest.approx(1.0, abs=1e-9)
+    assert not info["collision"]
+
+
+def test_driving_parallel_to_a_wall_is_not_a_collision():
+    env = env_for("open")
+    place(env, (0.0, 5.0 - R - 0.03), heading=0.0)
+    for n in range(1, 6):
+        _, _, _, _, info = env.step(0)
+        assert not info["collision"]
+        np.testing.assert_allclose(info["position"], (n * STEP, 5.0 - R - 0.03), atol=1e-9)
+
+
+# ---------------------------------------------------------------------- collisions
+def test_driving_into_a_wall_stops_the_robot():
+    env = env_for("open")
+    place(env, (4.4, 0.0), heading=0.0)
+    collisions = []
+    xs = []
+    for _ in range(10):
+        _, _, _, _, info = env.step(0)
+        collisions.append(info["collision"])
+        xs.append(info["position"][0])
+        assert env.maze.clearance(info["position"]) >= R - TOL
+        assert info["position"][1] == pytest.approx(0.0, abs=1e-9)
+    assert collisions[:2] == [False, False]  # 4.55, 4.70: clear of the wall
+    assert all(collisions[3:])  # pushing against the wall
+    assert 5.0 - R - 0.02 < xs[-1] <= 5.0 - R
+    assert max(xs[3:]) - min(xs[3:]) < 0.02  # stopped: pushing on does not move it
+
+
+def test_driving_into_an_obstacle_stops_the_robot():
+    """maze1's wall spans y in [1.35, 1.65] for x < -1: driving +y from below stops under it."""
+    env = env_for("maze1")
+    place(env, (-3.0, 0.5), heading=0.0)
+    for _ in range(12):
+        _, _, _, _, info = env.step(2)
+        assert env.maze.clearance(info["position"]) >= R - TOL
+    assert info["collision"]
+    assert 1.35 - R - 0.02 < info["position"][1] <= 1.35 - R
+    assert info["position"][0] == pytest.approx(-3.0, abs=1e-6)
+
+
+def test_robot_slides_along_a_wall():
+    """Heading 45 degrees into the +x wall: x is blocked, y keeps moving at 0.15 * sin(45 deg) per step."""
+    env = env_for("open")
+    place(env, (4.6, 0.0), heading=0.0)
+    previous = None
+    slid = 0
+    for _ in range(8):
+        _, _, _, _, info = env.step(1)
+        x, y = info["position"]
+        assert x <= 5.0 - R + 1e-9
+        if info["collision"]:
+            assert y - previous[1] == pytest.approx(STEP * math.sqrt(0.5), abs=0.01)
+            slid += 1
+        previous = (x, y)
+    assert slid >= 4
+
+
+def test_wheels_into_a_wall_collide_and_keep_turning():
+    env = env_for("open", "wheels")
+    place(env, (4.6, 0.0), heading=0.3)
+    headings = []
+    for _ in range(6):
+        _, _, _, _, info = env.step(np.array([1.0, 0.8], np.float32))
+        assert env.maze.clearance(info["position"]) >= R - TOL
+        headings.append(info["heading"])
+    assert info["collision"]
+    np.testing.assert_allclose(np.diff(headings), -physics.MAX_SPEED * 0.2 / physics.AXLE_LENGTH * physics.CONTROL_DT, atol=1e-6)
+
+
+def test_corner():
+    env = env_for("open")
+    place(env, (4.5, 4.5))
+    for _ in range(5):
+        _, _, _, _, info = env.step(1)
+        assert env.maze.clearance(info["position"]) >= R - TOL
+    assert info["collision"]
+    np.testing.assert_allclose(info["position"], (5 - R, 5 - R), atol=0.02)
+
+
+# ---------------------------------------------------------------------- properties
+repeats = st.integers(1, 25)
+ACTION_PLANS = {
+    "discrete": st.lists(st.tuples(st.integers(0, 7), repeats), min_size=1, max_size=8),
+    "heading": st.lists(st.tuples(st.floats(-math.pi, math.pi), repeats), min_size=1, max_size=8),
+    "wheels": st.lists(st.tuples(st.floats(-1, 1, width=32), st.floats(-1, 1, width=32), repeats), min_size=1, max_size=8),
+}
+
+
+def _action(action_type, item):
+    if action_type == "discrete":
+        return item[0]
+    return np.array(item[:-1], np.float32)
+
+
+@pytest.mark.parametrize("action_type", ["discrete", "heading", "wheels"])
+@pytest.mark.parametrize("maze", hippo_env.BUILTIN_MAZES)
+@settings(max_examples=25, deadline=None)
+@given(data=st.data(), seed=st.integers(0, 2**31 - 1))
+def test_robot_never_enters_a_wall(maze, action_type, data, seed):
+    env = env_for(maze, action_type)
+    plan = data.draw(ACTION_PLANS[action_type])
+    _, info = env.reset(seed=seed, options={"goal": None})
+    hw, hh = env.maze.half_extent
+    for item in plan:
+        action = _action(action_type, item)
+        for _ in range(item[-1]):
+            _, _, terminated, _, info = env.step(action)
+            position = info["position"]
+            # clearance() is negative inside an obstacle or outside the arena, so this one check covers all three.
+            clearance = env.maze.clearance(position)
+            assert clearance >= R - TOL, (
+                f"at {position}: {clearance:.4f} m from a wall; inside an obstacle: {env.maze.inside_obstacle(position)}; "
+                f"outside the arena: {abs(position[0]) >= hw or abs(position[1]) >= hh}"
+            )
+            assert not terminated
