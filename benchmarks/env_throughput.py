@@ -15,11 +15,7 @@ import argparse
 import dataclasses
 import datetime
 import json
-import os
-import platform
-import shlex
 import statistics
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,8 +26,7 @@ import numpy as np
 import pymunk
 
 import hippo_env
-
-REPO = Path(__file__).resolve().parent.parent
+from benchmarks.machine import REPO, command_line, load_average, machine_info
 
 
 @dataclass
@@ -75,7 +70,7 @@ def parse_args() -> Args:
 
 args = parse_args()
 rng = np.random.default_rng(args.seed)
-load_at_start = [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None  # a shared machine skews wall-clock rates
+load_at_start = load_average()
 print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
 
 
@@ -153,37 +148,16 @@ for mode in args.vec_modes if args.vec_envs > 0 else ():
 
 
 # ---------------------------------------------------------------------- the record
-def cpu_model() -> str:
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.exists():
-        for line in cpuinfo.read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return platform.processor()
-
-
 at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
 at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
 record = {
-    "command": shlex.join(
-        ["python", os.path.relpath(sys.argv[0], REPO) if Path(sys.argv[0]).is_absolute() else sys.argv[0], *sys.argv[1:]]
-    ),
+    "command": command_line(),
     "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
     "args": dataclasses.asdict(args),
-    "machine": {
-        "cpu_count": os.cpu_count(),
-        "cpus_usable": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
-        "cpu": cpu_model(),
-        "load_average_at_start": load_at_start,
-        "load_average_at_end": [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None,
-        "platform": platform.platform(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "pymunk": pymunk.version,
-        "numba": numba.__version__,
-        "gymnasium": gym.__version__,
-        "hippo_env": hippo_env.__version__,
-    },
+    "machine": machine_info(
+        numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
+    )
+    | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
     "single_env": single,
     "vector_env": vector,
     "target_steps_per_second_720_rays": args.target,

@@ -1,0 +1,44 @@
+"""What a benchmark record says about the machine it ran on (a shared machine skews wall-clock rates)."""
+
+from __future__ import annotations
+
+import os
+import platform
+import shlex
+import sys
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def cpu_model() -> str:
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return platform.processor()
+
+
+def load_average() -> list[float] | None:
+    return [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None
+
+
+def machine_info(**versions: str) -> dict[str, Any]:
+    """CPU, platform and Python, plus the given package versions."""
+    return {
+        "cpu_count": os.cpu_count(),
+        "cpus_usable": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
+        "cpu": cpu_model(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        **versions,
+    }
+
+
+def command_line() -> str:
+    """The command that ran this script, with the script's path relative to the repository."""
+    script = Path(sys.argv[0])
+    shown = os.path.relpath(script, REPO) if script.is_absolute() else sys.argv[0]
+    return shlex.join(["python", shown, *sys.argv[1:]])

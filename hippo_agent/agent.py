@@ -1,0 +1,549 @@
+"""HippocampalAgent: the paper's model (head direction, BVC, place and reward cells) as a policy.
+
+The agent follows the protocol in :mod:`hippo_env.protocol` (``prepare`` / ``start_trial`` /
+``reset`` / ``act`` / ``observe``). It sees only the observation (the rangefinder scan and the
+compass heading), the reward, and the bump sensor ``info["collision"]``; never the position or
+the goal.
+
+Behaviour (paper section "Modes of Operation"):
+
+- ``prepare(env)``: the dry run. Goal-free exploration for ``config.dry_run_steps`` steps with only
+  the BVC -> place weights plastic (eq. 5), to clean up the place fields.
+- ``start_trial``: a new DMTP day; a new reward cell for the new goal.
+- Each step, if the current goal's reward map is known where the agent is, it preplays one step
+  in each of the ``n_hd`` directions (eq. 8), reads their values (eq. 9), heads along their
+  value-weighted circular mean (eq. 10) and depresses the active cells' reward weights (eq. 11).
+  Otherwise (no reward map yet, i.e. run 1, or values below ``xi``) it explores: straight
+  segments of 5-10 steps, then a N(0, 30 deg) turn; a bump starts a new segment in a random
+  direction.
+- In runs (not the dry run) the place-place tensor learns (eq. 7) on every step without a bump,
+  and on reward the agent replays backward (Algorithm 1) to add to the goal's reward weights.
+
+The model does one place-cell update per environment step.
+
+Measured (open 10 m arena, ``hippo_env.protocol.run_dmtp``, 20 trials x 4 runs per seed, a fresh
+agent per trial, default config): seeds 0-4 (used for tuning) median indirectness per run
+30.3 / 1.01 / 0.49 / 0.49, 64 % of runs 2-4 below 1; held-out seeds 5-6: 33.0 / 1.98 / 0.90 /
+0.37, 56 % below 1; all 140 trials: 30.6 / 1.29 / 0.55 / 0.46, 62 % below 1, 100 % of runs 2-4
+reaching the goal. Outcomes are bimodal and a median over 20 trials moves by +-0.5 from seed to
+seed, so settings were compared on the same seeds (see the "tuned" notes in
+:mod:`hippo_agent.config`). The two failure modes left are the paper's own: a run-2 start
+outside the region run 1 mapped (the agent must explore until it enters it), and near misses,
+where the value peak (about one place field, ~1 m) is wider than the 0.3 m goal disk and the
+agent circles it.
+
+Speed (one core, 1000 place cells, 400 BVCs, 720 rays, learning on, agent only): about 2,500
+act + observe steps/s when exploiting (8-way preplay every step), 3,500 when exploring; one
+20-iteration replay 6-10 ms.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import zipfile
+from typing import Any
+
+import numpy as np
+
+from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells
+from hippo_agent.config import AgentConfig
+
+__all__ = ["HippocampalAgent"]
+
+FORMAT_TAG = "hippomaze.HippocampalAgent"
+FORMAT_VERSION = 1
+
+
+def _wrap(angle: float) -> float:
+    """Wrap an angle to [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _describe_space(space: Any) -> str:
+    return f"{type(space).__name__}({space})" if space is not None else "None"
+
+
+class HippocampalAgent:
+    """The hippocampal navigation model as an agent for ``HippoMaze-v0``.
+
+    Args:
+        observation_space: ``Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,)))``.
+        action_space: ``Discrete(n)`` (action k = allocentric heading ``2*pi*k/n``; the env's
+            ``Discrete(8)``) or ``Box(-pi, pi, (1,))`` (the heading itself). Anything else, e.g. the
+            wheels ``Box(-1, 1, (2,))``, raises ``ValueError``.
+        config: the model's parameters; ``None`` = ``AgentConfig()``.
+        seed: seed of the agent's one random generator (initial ``W_pb``, exploration, stochastic
+            rounding); ``None`` = fresh entropy.
+
+    Attributes:
+        hd, bvc, place, reward: the four cell populations (``hippo_agent.cells``).
+        last_decision: ``"explore"`` or ``"exploit"``, how the last action was chosen.
+        episode_stats: counters for the current episode (explore/exploit steps, bumps).
+    """
+
+    def __init__(
+        self,
+        observation_space: Any,
+        action_space: Any,
+        config: AgentConfig | None = None,
+        seed: int | None = None,
+    ) -> None:
+        if config is None:
+            config = AgentConfig()
+        if not isinstance(config, AgentConfig):
+            raise ValueError(f"config must be an AgentConfig, got {type(config).__name__}")
+        if seed is not None:
+            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+                raise ValueError(f"seed={seed!r} is invalid; allowed: None or an integer >= 0")
+            seed = int(seed)
+        self.config = config
+        self.seed = seed
+        self.n_rays, self.max_range = self._check_observation_space(observation_space)
+        self.action_kind, self.n_actions = self._check_action_space(action_space)
+        self.observation_space = observation_space
+        self.action_space = action_space
+
+        self.rng = np.random.default_rng(seed)
+        c = config
+        self.hd = HeadDirectionCells(c.n_hd)
+        self.bvc = BoundaryVectorCells(
+            n_rays=self.n_rays,
+            max_range=self.max_range,
+            n_directions=c.n_bvc_directions,
+            n_distances=c.n_bvc_distances,
+            max_distance=c.bvc_max_distance,
+            sigma_r=c.bvc_sigma_r,
+            distance_scaled=c.bvc_distance_scaled,
+            beta=c.bvc_beta,
+            sigma_theta=math.radians(c.bvc_sigma_theta_deg),
+            angular_cutoff=c.bvc_angular_cutoff,
+            peak_rate=c.bvc_peak_rate,
+            ignore_max_range=c.bvc_ignore_max_range,
+        )
+        self.place = PlaceCells(
+            c.n_place,
+            self.bvc.n,
+            c.n_hd,
+            self.rng,
+            k=c.k,
+            Gamma_pb=c.Gamma_pb,
+            Gamma_pp=c.Gamma_pp,
+            psi=c.psi,
+            p_pb=c.p_pb,
+            eta_pb=c.eta_pb,
+            alpha_pb=c.alpha_pb,
+            trace_rate=c.trace_rate,
+            hd_trace_rate=c.hd_trace_rate,
+            trace_floor=c.trace_floor,
+            eta_pp=c.eta_pp,
+        )
+        self.reward = RewardCells(c.n_place)
+        self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
+        self._dir_cos = np.cos(self._directions)
+        self._dir_sin = np.sin(self._directions)
+
+        # behaviour state
+        self.phase = "trial"  # "dry" inside prepare(), else "trial"
+        self.trial = -1
+        self.goal_rewarded = False  # the current goal's reward map has been learnt at least once
+        self.started = False  # reset() has been called for the current episode
+        self.intended_heading = 0.0  # exploration's continuous intended heading (rad)
+        self.segment_left = 0  # exploration steps left in the current straight segment
+        self.escape_left = 0  # exploration steps left after a bump while exploiting
+        self.heading = 0.0  # last observed compass heading (rad)
+        self.last_decision = "explore"
+        self.last_values = np.zeros(c.n_hd)
+        self.episode_stats = {"explore": 0, "exploit": 0, "bumps": 0, "replays": 0}
+        self.total_steps = 0
+
+    # ================================================================== spaces
+    @staticmethod
+    def _check_observation_space(space: Any) -> tuple[int, float]:
+        import gymnasium as gym
+
+        allowed = (
+            "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,)))"
+        )
+        if not isinstance(space, gym.spaces.Dict) or set(space.spaces) != {"ranges", "heading"}:
+            raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
+        ranges, heading = space["ranges"], space["heading"]
+        if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
+            raise ValueError(
+                f"observation space 'ranges' {_describe_space(ranges)} is unsupported; "
+                "allowed: a 1-D Box with at least 8 rays"
+            )
+        if not isinstance(heading, gym.spaces.Box) or heading.shape != (2,):
+            raise ValueError(
+                f"observation space 'heading' {_describe_space(heading)} is unsupported; "
+                "allowed: Box(-1, 1, (2,)) holding (cos, sin) of the heading"
+            )
+        max_range = float(np.max(ranges.high))
+        if not (math.isfinite(max_range) and max_range > 0):
+            raise ValueError(
+                f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0"
+            )
+        return int(ranges.shape[0]), max_range
+
+    @staticmethod
+    def _check_action_space(space: Any) -> tuple[str, int]:
+        import gymnasium as gym
+
+        allowed = (
+            "Discrete(n) with start 0 (action k = heading 2*pi*k/n, the env's action_type='discrete') "
+            "or Box(-pi, pi, (1,)) (action_type='heading')"
+        )
+        if isinstance(space, gym.spaces.Discrete):
+            if int(space.start) != 0 or int(space.n) < 4:
+                raise ValueError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
+            return "discrete", int(space.n)
+        if isinstance(space, gym.spaces.Box) and space.shape == (1,):
+            lo, hi = float(space.low[0]), float(space.high[0])
+            if lo <= -math.pi + 1e-3 and hi >= math.pi - 1e-3:
+                return "heading", 1
+        raise ValueError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
+
+    # ================================================================== protocol
+    def prepare(self, env: Any) -> None:
+        """The dry run: explore goal-free for ``config.dry_run_steps`` steps, only eq. 5 plastic.
+
+        Resets ``env`` with ``options={"goal": None}`` (and again whenever it truncates).
+        """
+        if self.config.dry_run_steps == 0:
+            return
+        self.phase = "dry"
+        try:
+            obs, info = env.reset(options={"goal": None})
+            self.reset(obs, info)
+            for _ in range(self.config.dry_run_steps):
+                action = self.act(obs)
+                obs, reward, terminated, truncated, info = env.step(action)
+                self.observe(action, obs, reward, terminated, truncated, info)
+                if terminated or truncated:
+                    obs, info = env.reset(options={"goal": None})
+                    self.reset(obs, info)
+        finally:
+            self.phase = "trial"
+            self.started = False
+
+    def start_trial(self, trial: int) -> None:
+        """A new DMTP day: the goal has moved, so a new reward cell takes over."""
+        self.trial = int(trial)
+        self.reward.add_goal()
+        self.goal_rewarded = False
+
+    def reset(self, observation: dict, info: dict | None = None) -> None:
+        """A run begins: rest the network, settle it on the first observation, new segment."""
+        self.place.reset_state()
+        ranges, heading_vec, heading = self._unpack(observation)
+        b = self.bvc.update(ranges, heading)
+        h = self.hd.update(heading_vec)
+        self.place.step(b, self.config.settle_steps)
+        self.place.update_hd_trace(h)
+        self.reward.reset_effective()
+        self.heading = heading
+        self._new_segment(heading)
+        self.last_decision = "explore"
+        self.escape_left = 0
+        self.last_values = np.zeros(self.config.n_hd)
+        self.episode_stats = {"explore": 0, "exploit": 0, "bumps": 0, "replays": 0}
+        self.started = True
+
+    def act(self, observation: dict) -> Any:
+        """Choose an action for the observation last given to ``reset`` / ``observe``."""
+        if not self.started:
+            self.reset(observation, {})
+        heading = None
+        if self.escape_left > 0:
+            self.escape_left -= 1
+        elif self.phase == "trial":
+            heading = self._exploit_heading()
+        if heading is None:
+            heading = self._explore_heading()
+            self.last_decision = "explore"
+        else:
+            self.last_decision = "exploit"
+        self.episode_stats[self.last_decision] += 1
+        return self._to_action(heading)
+
+    def observe(
+        self,
+        action: Any,
+        observation: dict,
+        reward: float,
+        terminated: bool,
+        truncated: bool,
+        info: dict,
+    ) -> None:
+        """Update every cell population from the new observation; learn; replay on reward."""
+        c = self.config
+        collision = bool(info.get("collision", False)) if info else False
+        ranges, heading_vec, heading = self._unpack(observation)
+        self.heading = heading
+        b = self.bvc.update(ranges, heading)
+        h = self.hd.update(heading_vec)
+        self.place.step(b)
+        dry = self.phase == "dry"
+        if dry or c.learn_pb_in_trials:
+            self.place.learn_pb(b)
+        self.place.update_hd_trace(h)
+        learn_pp = not dry and (c.learn_pp_in_exploitation or self.last_decision == "explore")
+        if learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
+            self.place.learn_pp()
+        self.place.update_trace()
+        if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
+            self.episode_stats["bumps"] += 1
+            self.intended_heading = float(self.rng.uniform(-math.pi, math.pi))
+            self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
+            if self.last_decision == "exploit":
+                self.escape_left = c.bump_escape_steps
+        if reward > 0 and not dry:
+            self.learn_reward()
+        self.total_steps += 1
+        if terminated or truncated:
+            self.started = False
+
+    # ================================================================== learning
+    def learn_reward(self) -> bool:
+        """Backward replay (Algorithm 1) from the current place rates into the current goal's
+        reward cell. Returns ``False`` if no place cell was active (nothing to learn)."""
+        learnt = self.reward.learn(
+            self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r
+        )
+        if learnt:
+            self.goal_rewarded = True
+            self.episode_stats["replays"] += 1
+        return learnt
+
+    # ================================================================== decisions
+    def _exploit_heading(self) -> float | None:
+        """One-step preplay (eqs. 8-10) and depression (eq. 11); ``None`` means explore."""
+        c = self.config
+        if not self.goal_rewarded or self.reward.n == 0:
+            return None
+        v = self.place.v
+        if self.reward.value(v) <= c.xi_here:
+            return None
+        v_bar = self.place.preplay(v)  # eq. 8, (n_hd, n)
+        values = self.reward.value(v_bar)  # eq. 9
+        self.last_values = values
+        if values.max() < c.xi:
+            return None
+        # eq. 10: circular mean of the directions weighted by their values (atan2 keeps the quadrant)
+        a_star = math.atan2(float(values @ self._dir_sin), float(values @ self._dir_cos))
+        self.reward.depress(v, c.lambda_)  # eq. 11
+        self._new_segment(a_star)  # if exploration takes over, it starts from here
+        return a_star
+
+    def _new_segment(self, heading: float) -> None:
+        c = self.config
+        self.intended_heading = float(heading)
+        self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
+
+    def _explore_heading(self) -> float:
+        """Straight segments of ``segment_min..segment_max`` steps, then a N(0, sigma) turn."""
+        c = self.config
+        if self.segment_left <= 0:
+            turn = self.rng.normal(0.0, math.radians(c.turn_sigma_deg))
+            self.intended_heading = _wrap(self.intended_heading + turn)
+            self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
+        self.segment_left -= 1
+        return self.intended_heading
+
+    def _to_action(self, heading: float) -> Any:
+        """Turn an allocentric heading into an action of the action space."""
+        if self.action_kind == "heading":
+            return np.array([_wrap(heading)], dtype=np.float32)
+        x = (heading % (2.0 * math.pi)) / (2.0 * math.pi / self.n_actions)
+        if self.config.discrete_rounding == "nearest":
+            k = int(math.floor(x + 0.5))
+        else:  # stochastic rounding: the expected direction is the intended one
+            lo = math.floor(x)
+            k = lo + int(self.rng.random() < x - lo)
+        return int(k % self.n_actions)
+
+    # ================================================================== observation
+    def _unpack(self, observation: dict) -> tuple[np.ndarray, np.ndarray, float]:
+        try:
+            ranges = np.asarray(observation["ranges"])
+            heading_vec = np.asarray(observation["heading"], dtype=np.float64)
+        except (KeyError, TypeError, IndexError) as exc:
+            raise ValueError(
+                "observation must be a dict with 'ranges' (n_rays,) and 'heading' (cos, sin)"
+            ) from exc
+        if heading_vec.shape != (2,):
+            raise ValueError(f"observation 'heading' has shape {heading_vec.shape}; expected (2,)")
+        heading = math.atan2(float(heading_vec[1]), float(heading_vec[0]))
+        return ranges, heading_vec, heading
+
+    # ================================================================== analysis
+    @property
+    def place_rates(self) -> np.ndarray:
+        """The place cells' current rates (a copy)."""
+        return self.place.v.copy()
+
+    def place_rates_at(self, observation: dict) -> np.ndarray:
+        """Steady-state place rates for an observation, from rest; the agent's state is untouched."""
+        ranges, _, heading = self._unpack(observation)
+        b = self.bvc.rates_for(ranges, heading)
+        return self.place.rates_for(b, self.config.analysis_settle_steps)
+
+    def value_at(self, observation: dict, goal: int = -1) -> float:
+        """Reward cell ``goal``'s rate (eq. 9, undepressed weights) at an observation."""
+        if self.reward.n == 0:
+            return 0.0
+        v = self.place_rates_at(observation)
+        return float(self.reward.value(v, self.reward.W_rp[goal]))
+
+    def place_field_map(self, env: Any, positions: np.ndarray, heading: float = 0.0) -> np.ndarray:
+        """Place rates at each position, shape ``(len(positions), n_place)``.
+
+        Uses ``env.unwrapped.observation_at(position, heading)`` (analysis only: the agent never
+        sees positions while acting). Positions the environment rejects (inside an obstacle) get
+        NaN rows.
+        """
+        positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        out = np.full((len(positions), self.config.n_place), np.nan)
+        base = env.unwrapped
+        for n, pos in enumerate(positions):
+            try:
+                obs = base.observation_at(pos, heading)
+            except ValueError:
+                continue
+            out[n] = self.place_rates_at(obs)
+        return out
+
+    def reward_map(
+        self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0
+    ) -> np.ndarray:
+        """Reward cell ``goal``'s value (eq. 9) at each position, NaN where the env rejects it."""
+        rates = self.place_field_map(env, positions, heading)
+        if self.reward.n == 0:
+            return np.where(np.isnan(rates[:, 0]), np.nan, 0.0)
+        W = self.reward.W_rp[goal]
+        total = rates.sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            val = np.where(total > 0, (rates @ W) / np.where(total > 0, total, 1.0), 0.0)
+        return np.where(np.isnan(total), np.nan, val)
+
+    # ================================================================== save / load
+    _ARRAY_HOME = {
+        "W_pb": ("place", "W_pb"), "W_rp": ("reward", "W_rp"),
+        "W_eff": ("reward", "W_eff"), "s": ("place", "s"), "v": ("place", "v"),
+        "trace": ("place", "trace"), "hd_trace": ("place", "hd_trace"), "hd_rates": ("hd", "rates"),
+        "bvc_rates": ("bvc", "rates"), "last_values": ("agent", "last_values"),
+    }
+    _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+
+    def _array_slots(self) -> list[tuple[str, Any, str]]:
+        """(name in the file, object holding it, attribute) for every saved array."""
+        return [(name, self if owner == "agent" else getattr(self, owner), attr)
+                for name, (owner, attr) in self._ARRAY_HOME.items()]
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
+
+        The file holds the arrays plus a JSON metadata entry with a format tag and version;
+        :meth:`load` restores an agent whose future behaviour is identical.
+        """
+        meta = {
+            "format": FORMAT_TAG,
+            "version": FORMAT_VERSION,
+            "config": self.config.to_dict(),
+            "seed": self.seed,
+            "observation": {"n_rays": self.n_rays, "max_range": self.max_range},
+            "action": {"kind": self.action_kind, "n": self.n_actions},
+            "rng_state": self.rng.bit_generator.state,
+            "rng_kind": type(self.rng.bit_generator).__name__,
+            "state": {
+                "phase": self.phase,
+                "trial": self.trial,
+                "goal_rewarded": self.goal_rewarded,
+                "started": self.started,
+                "intended_heading": self.intended_heading,
+                "segment_left": self.segment_left,
+                "escape_left": self.escape_left,
+                "heading": self.heading,
+                "last_decision": self.last_decision,
+                "episode_stats": self.episode_stats,
+                "total_steps": self.total_steps,
+            },
+        }
+        arrays = {name: getattr(target, attr) for name, target, attr in self._array_slots()}
+        arrays["W_pp_slots"] = self.place.W_pp_used  # the compact W_pp (see PlaceCells)
+        arrays["W_pp_cells"] = self.place.slot_cells
+        with open(path, "wb") as f:
+            np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "HippocampalAgent":
+        """Read an agent written by :meth:`save`; a corrupt, truncated or foreign file raises
+        ``ValueError``."""
+        import gymnasium as gym
+
+        what = f"'{os.fspath(path)}' is not a readable hippomaze agent file"
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                if "__meta__" not in data.files:
+                    raise ValueError(f"{what}: it has no '__meta__' entry (not written by HippocampalAgent.save)")
+                meta = json.loads(str(data["__meta__"]))
+                missing = [k for k in cls._ARRAYS if k not in data.files]
+                if missing:
+                    raise ValueError(f"{what}: arrays {missing} are missing")
+                arrays = {k: data[k] for k in cls._ARRAYS}
+        except ValueError as exc:
+            if str(exc).startswith(what):
+                raise
+            raise ValueError(f"{what}: {exc}") from exc
+        except (OSError, EOFError, zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
+            raise ValueError(f"{what}: {type(exc).__name__}: {exc}") from exc
+        if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
+            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, "
+                             f"expected {FORMAT_TAG!r}")
+        if meta.get("version") != FORMAT_VERSION:
+            raise ValueError(f"{what}: format version {meta.get('version')!r} is unsupported; "
+                             f"this hippo_agent reads version {FORMAT_VERSION}")
+        try:
+            config = AgentConfig.from_dict(meta["config"])
+            n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
+            obs_space = gym.spaces.Dict({
+                "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
+                "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+            })
+            if meta["action"]["kind"] == "discrete":
+                act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
+            else:
+                act_space = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
+            agent = cls(obs_space, act_space, config, seed=meta["seed"])
+            for name, target, attr in agent._array_slots():
+                ref, arr = getattr(target, attr), arrays[name]
+                ok = (arr.ndim == 2 and arr.shape[1] == config.n_place) if name == "W_rp" else arr.shape == ref.shape
+                if not ok or not np.all(np.isfinite(arr)):
+                    raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
+                setattr(target, attr, arr.astype(ref.dtype))
+            if not np.all(np.isfinite(arrays["W_pp_slots"])):
+                raise ValueError("array 'W_pp_slots' has non-finite values")
+            agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
+            if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
+                raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
+            agent.rng.bit_generator.state = meta["rng_state"]
+            st = meta["state"]
+            if st["phase"] not in ("dry", "trial"):
+                raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
+            agent.phase = str(st["phase"])
+            agent.trial = int(st["trial"])
+            agent.goal_rewarded = bool(st["goal_rewarded"])
+            agent.started = bool(st["started"])
+            agent.intended_heading = float(st["intended_heading"])
+            agent.segment_left = int(st["segment_left"])
+            agent.escape_left = int(st["escape_left"])
+            agent.heading = float(st["heading"])
+            agent.last_decision = str(st["last_decision"])
+            agent.episode_stats = {str(k): int(v) for k, v in st["episode_stats"].items()}
+            agent.total_steps = int(st["total_steps"])
+        except ValueError as exc:
+            raise ValueError(f"{what}: {exc}") from exc
+        except (KeyError, TypeError, AttributeError) as exc:
+            raise ValueError(f"{what}: metadata is incomplete ({type(exc).__name__}: {exc})") from exc
+        return agent

@@ -1,0 +1,43 @@
+"""Head-direction cells (paper eq. 1): cosine tuning to the allocentric heading, not rectified."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["HeadDirectionCells"]
+
+
+class HeadDirectionCells:
+    """``n`` head-direction cells with preferred directions ``theta_k = 2*pi*k/n``.
+
+    Eq. 1 (Erdem & Hasselmo) projects the unit heading vector onto each preferred direction,
+    ``v^h_k = cos(heading - theta_k)``: a cosine that goes negative behind the cell. It is kept
+    unrectified, as in the reference implementation (sharper, rectified tuning measured worse in
+    the feasibility study). Because ``n`` is even, cell ``k + n/2`` is always exactly ``-v^h_k``.
+
+    Args:
+        n: number of cells (even).
+    """
+
+    def __init__(self, n: int = 8) -> None:
+        if n < 1:
+            raise ValueError(f"n={n} head-direction cells is invalid; allowed: an integer >= 1")
+        self.n = int(n)
+        self.preferred = 2.0 * np.pi * np.arange(self.n) / self.n
+        self._cos = np.cos(self.preferred)
+        self._sin = np.sin(self.preferred)
+        self.rates = np.zeros(self.n)
+
+    def rates_for(self, heading_vec: np.ndarray) -> np.ndarray:
+        """Rates for a heading given as ``(cos, sin)`` (need not be unit length), without updating."""
+        c, s = float(heading_vec[0]), float(heading_vec[1])
+        norm = np.hypot(c, s)
+        if norm == 0.0:
+            raise ValueError("heading vector (0, 0) has no direction")
+        # eq. 1: v^h_k = <unit heading, (cos theta_k, sin theta_k)> = cos(heading - theta_k)
+        return (c * self._cos + s * self._sin) / norm
+
+    def update(self, heading_vec: np.ndarray) -> np.ndarray:
+        """Set and return the rates for the heading ``(cos, sin)``."""
+        self.rates = self.rates_for(heading_vec)
+        return self.rates

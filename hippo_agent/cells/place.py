@@ -1,0 +1,260 @@
+"""Place cells (paper eqs. 3-8): BVC-driven rates, Oja learning, direction-specific recurrence."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["PlaceCells"]
+
+MATVEC_ROWS = 1024
+
+
+class PlaceCells:
+    """``n`` place cells driven by ``n_bvc`` boundary vector cells, with a ``W_pp`` tensor.
+
+    State: membrane potentials ``s``, rates ``v`` (eqs. 3-4), the place-cell trace ``Upsilon_p``
+    and head-direction trace ``Upsilon_h`` (eq. 6). Weights: ``W_pb`` (n, n_bvc) float32, learnt by
+    Oja's rule (eq. 5), and the direction-specific recurrent tensor ``W^pp_{kij}`` (the synapse from
+    place cell ``j`` to ``i`` on the branch for direction ``k``), zero at the start (eq. 7).
+
+    ``W^pp`` is stored compactly: only cells that have taken part in eq. 7 (been active or traced
+    on a learning step; about 40 % of cells ever fire) get a *slot*, and the weights live in a
+    dense float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
+    doubling. Every other entry of the full tensor is exactly zero, so this is the full tensor,
+    not an approximation: about 5 MB instead of 32 MB at 1000 cells, and ~80 MB instead of 512 MB
+    at 4000. Pre-synaptic-first storage makes everything the few active cells drive (preplay,
+    replay) one contiguous row gather. :meth:`W_pp_slice` gives the paper's ``W^pp_k`` as a full
+    ``(i, j)`` matrix and :attr:`W_pp` the full ``(j, k, i)`` tensor (copies, for analysis).
+
+    Every update touches only the cells that matter: Oja only the rows of active cells (a silent
+    cell's ``v_i = 0`` makes its eq.-5 update exactly zero), and eq. 7 only the entries with an
+    active cell on one side and an active-or-traced cell on the other (``v_i Upsilon_j - v_j
+    Upsilon_i`` is zero elsewhere). Traces below ``trace_floor`` are set to zero so those sets stay
+    small.
+
+    With the unrectified cosine head-direction code, ``h_{k+n_hd/2} = -h_k`` exactly, so eq. 7 makes
+    the opposite slice learn the negative of slice ``k``; and since ``v Upsilon^T - Upsilon v^T`` is
+    antisymmetric, each slice is antisymmetric too, hence ``W^pp_{k+n_hd/2} = (W^pp_k)^T``: moving
+    east from j's field into i's also teaches "west from i leads to j". The max over directions
+    used by replay, ``max_k W^pp_{kij} = max_k |W^pp_{kij}|``, is therefore symmetric, and replay
+    spreads both ways along a path. This is the paper's model as written; we keep it.
+
+    Args:
+        n: number of place cells.
+        n_bvc: number of BVC inputs.
+        n_hd: number of head-direction cells (``W_pp`` slices).
+        rng: the generator for the random binary ``W_pb``.
+        k, Gamma_pb, Gamma_pp, psi: eq. 3-4 constants.
+        p_pb: probability that an initial ``W_pb`` weight is 1.
+        eta_pb, alpha_pb: eq. 5 rate and normaliser.
+        trace_rate, hd_trace_rate, trace_floor: eq. 6 trace rates and floor.
+        eta_pp: eq. 7 rate.
+    """
+
+    def __init__(
+        self,
+        n: int,
+        n_bvc: int,
+        n_hd: int,
+        rng: np.random.Generator,
+        *,
+        k: float = 0.5,
+        Gamma_pb: float = 0.3,
+        Gamma_pp: float = 0.5,
+        psi: float = 1.0,
+        p_pb: float = 0.2,
+        eta_pb: float = 0.096,
+        alpha_pb: float = float(np.sqrt(0.5)),
+        trace_rate: float = 0.3,
+        hd_trace_rate: float = 1.0,
+        trace_floor: float = 1e-3,
+        eta_pp: float = 1.0,
+    ) -> None:
+        self.n, self.n_bvc, self.n_hd = int(n), int(n_bvc), int(n_hd)
+        self.k, self.Gamma_pb, self.Gamma_pp, self.psi = k, Gamma_pb, Gamma_pp, psi
+        self.eta_pb, self.alpha_pb = eta_pb, alpha_pb
+        self.trace_rate, self.hd_trace_rate, self.trace_floor = trace_rate, hd_trace_rate, trace_floor
+        self.eta_pp = eta_pp
+        # W_pb(0) binary, 1 with probability p_pb (paper, eq. 5)
+        self.W_pb = (rng.random((self.n, self.n_bvc)) < p_pb).astype(np.float32)
+        # W_pp(0) = 0 (eq. 7): no slots yet
+        self.slot = np.full(self.n, -1, dtype=np.int64)  # cell -> slot (-1: none, its W_pp is all 0)
+        self.slot_cells = np.zeros(0, dtype=np.int64)  # slot -> cell
+        self.W_slots = np.zeros((0, self.n_hd, 0), dtype=np.float32)
+        self.s = np.zeros(self.n)
+        self.v = np.zeros(self.n)
+        self.trace = np.zeros(self.n)  # Upsilon^p
+        self.hd_trace = np.zeros(self.n_hd)  # Upsilon^h
+
+    @property
+    def _W_pb_blocks(self) -> list[np.ndarray]:
+        return [self.W_pb[i : i + MATVEC_ROWS] for i in range(0, self.n, MATVEC_ROWS)]
+
+    # ------------------------------------------------------------------ state
+    def reset_state(self) -> None:
+        """Rest: zero potentials, rates and traces (weights kept)."""
+        self.s = np.zeros(self.n)
+        self.v = np.zeros(self.n)
+        self.trace = np.zeros(self.n)
+        self.hd_trace = np.zeros(self.n_hd)
+
+    def _step(self, s: np.ndarray, v: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        b32 = b.astype(np.float32)
+        # row blocks of MATVEC_ROWS: OpenBLAS threads bigger float32 matvecs, which on a loaded
+        # machine made the 4000 x 400 product 30x slower than one thread; 1000 cells is one block
+        drive = np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
+        drive = drive - (self.Gamma_pb * b.sum() + self.Gamma_pp * v.sum())
+        s = s + self.k * (-s + drive)  # eq. 3 (Euler step, k = dt / tau_p)
+        v = np.tanh(np.maximum(self.psi * s, 0.0))  # eq. 4
+        return s, v
+
+    def step(self, b: np.ndarray, n_steps: int = 1) -> np.ndarray:
+        """Advance eqs. 3-4 by ``n_steps`` updates with BVC rates ``b``; return the rates."""
+        for _ in range(n_steps):
+            self.s, self.v = self._step(self.s, self.v, b)
+        return self.v
+
+    def rates_for(self, b: np.ndarray, n_steps: int) -> np.ndarray:
+        """Rates after ``n_steps`` updates from rest with input ``b``; the state is not touched."""
+        s, v = np.zeros(self.n), np.zeros(self.n)
+        for _ in range(n_steps):
+            s, v = self._step(s, v, b)
+        return v
+
+    # ------------------------------------------------------------------ learning
+    def learn_pb(self, b: np.ndarray) -> None:
+        """Oja's rule (eq. 5) on the rows of the active cells only."""
+        act = np.flatnonzero(self.v > 0.0)
+        if act.size == 0:
+            return
+        va = self.v[act, None]
+        W = self.W_pb[act]
+        W = W + self.eta_pb * va * (b[None, :] - va * W / self.alpha_pb)  # eq. 5
+        W[W < 1e-12] = 0.0  # flush decayed weights before they become slow denormal float32s
+        self.W_pb[act] = W
+
+    def update_hd_trace(self, h: np.ndarray) -> None:
+        """Move the head-direction trace Upsilon^h toward ``h`` (eq. 6c)."""
+        self.hd_trace += self.hd_trace_rate * (h - self.hd_trace)  # eq. 6
+
+    def update_trace(self) -> None:
+        """Move the place-cell trace Upsilon^p toward the rates (eqs. 6a-b), flooring tiny values."""
+        self.trace += self.trace_rate * (self.v - self.trace)  # eq. 6
+        self.trace[self.trace < self.trace_floor] = 0.0
+
+    @property
+    def n_slots(self) -> int:
+        """Number of cells holding ``W_pp`` slots."""
+        return int(self.slot_cells.size)
+
+    def _ensure_slots(self, cells: np.ndarray) -> np.ndarray:
+        """Give slots to the cells that lack one (growing the block by doubling); return their slots."""
+        new = cells[self.slot[cells] < 0]
+        if new.size:
+            used = self.n_slots
+            need = used + new.size
+            cap = self.W_slots.shape[0]
+            if need > cap:
+                cap = min(self.n, max(need, 2 * cap, 64))
+                grown = np.zeros((cap, self.n_hd, cap), dtype=np.float32)
+                grown[:used, :, :used] = self.W_slots[:used, :, :used]
+                self.W_slots = grown
+            self.slot[new] = np.arange(used, need)
+            self.slot_cells = np.concatenate([self.slot_cells, new])
+        return self.slot[cells]
+
+    def learn_pp(self) -> None:
+        """Eq. 7 with the current rates, the current traces and Upsilon^h.
+
+        ``dW^pp_{kij} = eta_pp Upsilon^h_k (v_i Upsilon_j - v_j Upsilon_i)``, applied to the two blocks
+        where it can be nonzero: post-synaptic ``i`` active (any traced or active ``j``), and
+        pre-synaptic ``j`` active (the other ``i``).
+        """
+        on = self.v > 0.0
+        act = np.flatnonzero(on)
+        if act.size == 0:
+            return
+        traced = self.trace > 0.0
+        idx = np.flatnonzero(on | traced)
+        rest = np.flatnonzero(traced & ~on)
+        s_idx = self._ensure_slots(idx)
+        s_act, s_rest = self.slot[act], self.slot[rest]
+        h = (self.eta_pp * self.hd_trace).astype(np.float32)
+        v_a, y_a = self.v[act], self.trace[act]
+        v_x, y_x = self.v[idx], self.trace[idx]
+        # block A: post i in act, pre j in idx; stored [j, k, i]
+        d_a = np.outer(y_x, v_a) - np.outer(v_x, y_a)  # [j, i] = v_i Y_j - v_j Y_i
+        self.W_slots[s_idx[:, None], :, s_act[None, :]] += d_a.astype(np.float32)[:, :, None] * h  # eq. 7
+        if rest.size:
+            # block B: pre j in act, post i in rest (v_i = 0): -v_j Y_i
+            d_b = -np.outer(v_a, self.trace[rest])  # [j, i]
+            self.W_slots[s_act[:, None], :, s_rest[None, :]] += d_b.astype(np.float32)[:, :, None] * h  # eq. 7
+
+    def set_W_pp(self, pre: int, post: int, weights: np.ndarray) -> None:
+        """Set ``W^pp_{k, post, pre}`` for every direction ``k`` (for tests and experiments)."""
+        s = self._ensure_slots(np.array([pre, post], dtype=np.int64))
+        self.W_slots[s[0], :, s[1]] = np.asarray(weights, dtype=np.float32)
+
+    def load_W_pp(self, slot_cells: np.ndarray, W_slots: np.ndarray) -> None:
+        """Restore the compact ``W_pp`` (as saved: the cells holding slots and their block)."""
+        slot_cells = np.asarray(slot_cells, dtype=np.int64)
+        m = slot_cells.size
+        if (slot_cells.ndim != 1 or W_slots.shape != (m, self.n_hd, m)
+                or (m and (slot_cells.min() < 0 or slot_cells.max() >= self.n))
+                or np.unique(slot_cells).size != m):
+            raise ValueError(
+                f"W_pp slots {W_slots.shape} for {slot_cells.shape} cells do not fit {self.n} cells "
+                f"and {self.n_hd} directions"
+            )
+        self.slot = np.full(self.n, -1, dtype=np.int64)
+        self.slot[slot_cells] = np.arange(m)
+        self.slot_cells = slot_cells.copy()
+        self.W_slots = np.ascontiguousarray(W_slots, dtype=np.float32)
+
+    @property
+    def W_pp_used(self) -> np.ndarray:
+        """The used part of the slot block, ``(n_slots, n_hd, n_slots)`` (a view)."""
+        m = self.n_slots
+        return self.W_slots[:m, :, :m]
+
+    @property
+    def W_pp(self) -> np.ndarray:
+        """The full tensor as ``W_pp[j, k, i] = W^pp_{kij}``, shape ``(n, n_hd, n)`` (a dense copy)."""
+        full = np.zeros((self.n, self.n_hd, self.n), dtype=np.float32)
+        c = self.slot_cells
+        full[c[:, None], :, c[None, :]] = self.W_pp_used.transpose(0, 2, 1)
+        return full
+
+    def W_pp_slice(self, k: int) -> np.ndarray:
+        """The paper's ``W^pp_k`` as an ``(n_post, n_pre)`` matrix (a copy)."""
+        out = np.zeros((self.n, self.n), dtype=np.float32)
+        c = self.slot_cells
+        out[c[:, None], c[None, :]] = self.W_pp_used[:, k, :].T
+        return out
+
+    # ------------------------------------------------------------------ imagination
+    def preplay(self, v: np.ndarray | None = None) -> np.ndarray:
+        """Imagined rates one step away in each direction (eq. 8), shape ``(n_hd, n)``."""
+        v = self.v if v is None else v
+        rec = np.zeros((self.n_hd, self.n), dtype=np.float32)
+        act = np.flatnonzero(v > 0.0)
+        act = act[self.slot[act] >= 0]  # cells without a slot drive nothing
+        if act.size:
+            m = self.n_slots
+            rows = self.W_slots[self.slot[act], :, :m].reshape(act.size, -1)
+            rec[:, self.slot_cells] = (v[act].astype(np.float32) @ rows).reshape(self.n_hd, m)  # sum_j W_kij v_j
+        x = rec - v[None, :]
+        np.maximum(x, 0.0, out=x)
+        return np.tanh(x, out=x)  # eq. 8
+
+    def replay_weights(self, rows: np.ndarray | None = None) -> np.ndarray:
+        """``M[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), what replay spreads along
+        (Algorithm 1): ``v_bar @ M`` is the recurrent drive. ``rows`` selects pre-synaptic cells
+        (replay asks only for the rows of cells it has reached); ``None`` = all."""
+        rows = np.arange(self.n) if rows is None else np.asarray(rows, dtype=np.int64)
+        out = np.zeros((rows.size, self.n), dtype=np.float32)
+        has = self.slot[rows] >= 0
+        if has.any():
+            m = self.n_slots
+            out[np.ix_(has, self.slot_cells)] = self.W_slots[self.slot[rows[has]], :, :m].max(axis=1)
+        return out

@@ -1,0 +1,124 @@
+"""Reward cells (paper eqs. 9, 11 and Algorithm 1): one cell per goal, weights from replay."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+__all__ = ["RewardCells", "replay"]
+
+
+def replay(
+    v: np.ndarray,
+    W_max: np.ndarray | Callable[[np.ndarray], np.ndarray],
+    iterations: int,
+    tau_r: float,
+) -> np.ndarray | None:
+    """Backward replay (Algorithm 1) from place rates ``v``; return the normalised ``Delta W_rp``.
+
+    ``W_max[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), either as an ``(n, n)`` array or as
+    a function returning the rows for given pre-synaptic cells (:meth:`PlaceCells.replay_weights`);
+    with a function only the rows of the cells replay reaches are ever computed, once each.
+    Returns ``None`` when there is nothing to learn (no place cell active at the start: the
+    division by ``||v||_inf`` would be 0/0).
+    """
+    v_bar = np.asarray(v, dtype=np.float64).copy()
+    if not np.any(v_bar > 0.0):
+        return None
+    n = v_bar.size
+    if callable(W_max):
+        rows_of = W_max
+        M = np.zeros((n, n), dtype=np.float32)
+        have = np.zeros(n, dtype=bool)
+    dW = np.zeros_like(v_bar)
+    for t_r in range(iterations):
+        dW += v_bar / v_bar.max() * np.exp(-t_r / tau_r)  # Algorithm 1, line 3
+        active = np.flatnonzero(v_bar > 0.0)
+        if callable(W_max):
+            need = active[~have[active]]
+            if need.size:
+                M[need] = rows_of(need)
+                have[need] = True
+            rows = M[active]
+        else:
+            rows = W_max[active]
+        spread = v_bar[active] @ rows  # sum_l (max_k W^pp_{kjl}) v_bar_l
+        v_bar = np.tanh(np.maximum(v_bar + spread, 0.0))  # Algorithm 1, line 4
+        if not np.any(v_bar > 0.0):
+            break
+    return dW / dW.max()  # Algorithm 1, line 6 (dW.max() >= 1: iteration 0 adds v/max v)
+
+
+class RewardCells:
+    """Reward cells, one per goal, each reading out the place cells through a row of ``W_rp``.
+
+    A new cell (row of zeros) is added by :meth:`add_goal`; the last one is the current goal's.
+    ``W_eff`` is the effective copy ``\\bar W^rp`` of the current goal's row that eq. 11 depresses
+    during an exploiting episode; :meth:`reset_effective` restores it from ``W_rp``.
+
+    Args:
+        n_place: number of place cells.
+    """
+
+    def __init__(self, n_place: int) -> None:
+        self.n_place = int(n_place)
+        self.W_rp = np.zeros((0, self.n_place))
+        self.W_eff = np.zeros(self.n_place)
+
+    @property
+    def n(self) -> int:
+        """Number of reward cells (goals seen)."""
+        return self.W_rp.shape[0]
+
+    @property
+    def current(self) -> int:
+        """Index of the current goal's cell (``-1`` if none)."""
+        return self.n - 1
+
+    def add_goal(self) -> int:
+        """Add a reward cell for a new goal; return its index."""
+        self.W_rp = np.vstack([self.W_rp, np.zeros((1, self.n_place))])
+        self.reset_effective()
+        return self.current
+
+    def reset_effective(self) -> None:
+        """Start an episode: ``\\bar W^rp <- W^rp`` for the current goal."""
+        self.W_eff = self.W_rp[-1].copy() if self.n else np.zeros(self.n_place)
+
+    def learn(
+        self, v: np.ndarray, W_max: np.ndarray | Callable[[np.ndarray], np.ndarray], iterations: int, tau_r: float
+    ) -> bool:
+        """Replay from ``v`` and add the result to the current goal's weights (Algorithm 1).
+
+        Returns ``False`` (and learns nothing) when no place cell is active.
+        """
+        if self.n == 0:
+            self.add_goal()
+        dW = replay(v, W_max, iterations, tau_r)
+        if dW is None:
+            return False
+        self.W_rp[-1] += dW  # Algorithm 1, line 6: W_rp += dW / ||dW||_inf
+        self.reset_effective()
+        return True
+
+    def value(self, v: np.ndarray, W: np.ndarray | None = None) -> np.ndarray | float:
+        """Reward-cell rate for place rates ``v`` (eq. 9): ``W v / sum v``; 0 where ``sum v = 0``.
+
+        ``v`` may be one rate vector ``(n,)`` (returns a float) or a stack ``(m, n)`` (returns one
+        value each); ``W`` defaults to the effective weights ``W_eff``.
+        """
+        W = self.W_eff if W is None else W
+        if v.ndim == 1:
+            total = float(v.sum())
+            return float(v @ W) / total if total > 0.0 else 0.0  # eq. 9
+        total = v.sum(axis=1)
+        out = v @ W
+        nz = total > 0.0
+        out[nz] /= total[nz]  # eq. 9
+        out[~nz] = 0.0
+        return out
+
+    def depress(self, v: np.ndarray, lambda_: float) -> None:
+        """Depress the effective weights of the active cells (eq. 11)."""
+        self.W_eff -= lambda_ * self.W_eff * v  # eq. 11

@@ -1,0 +1,182 @@
+"""The ``hippomaze`` console script.
+
+``hippomaze dmtp --maze open --trials 20 --runs 4 --seed 0 --agent hippo --out out/`` runs the
+delayed-match-to-place experiment, prints each run's indirectness and writes ``out/dmtp.json``
+with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experiments.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+# Analysis maps sample at most this many positions (each costs a place-cell settle).
+MAX_MAP_POSITIONS = 2500
+EXAMPLE_PLACE_CELLS = 6
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="hippomaze", description="Hippocampal navigation in a Morris water maze (DMTP).")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    dmtp = commands.add_parser("dmtp", help="run the delayed-match-to-place experiment", description=run_dmtp_command.__doc__)
+    dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
+    dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
+    dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
+    dmtp.add_argument("--seed", type=int, default=0, help="seeds goals, starts, environment and agents (default: 0)")
+    dmtp.add_argument("--agent", default="hippo", help="hippo, random, dqn, ppo, or module:Class (default: hippo)")
+    dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures (default: out)")
+    dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
+    dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
+    dmtp.add_argument("--action-type", default="discrete", choices=("discrete", "heading", "wheels"), help="the action space (default: discrete)")
+    dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
+    dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md")
+    paper.add_argument("--out", default="paper_out", help="output folder (default: paper_out)")
+    paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
+    paper.add_argument("--seed", type=int, default=0)
+    paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
+
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "dmtp":
+            return run_dmtp_command(args)
+        return run_paper_command(args)
+    except ValueError as err:
+        print(f"hippomaze: error: {err}", file=sys.stderr)
+        return 2
+
+
+def run_dmtp_command(args: argparse.Namespace) -> int:
+    """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures."""
+    from baselines.registry import agent_factory
+    from hippo_agent.report import format_table, write_dmtp_figures
+    from hippo_env.maze import MazeSpec
+    from hippo_env.protocol import run_dmtp
+
+    maze = MazeSpec.load(args.maze)
+    factory = agent_factory(args.agent)
+    out = Path(args.out)
+    maps: dict[str, Any] = {}
+    result = run_dmtp(
+        factory,
+        maze,
+        trials=args.trials,
+        runs=args.runs,
+        seed=args.seed,
+        agent_name=args.agent,
+        same_start=args.same_start,
+        env_kwargs={"action_type": args.action_type},
+        max_episode_steps=args.max_steps,
+        progress=not args.no_progress,
+        on_run_end=None if args.no_figures else _collect_maps(maps),
+    )
+    path = result.save(out)
+    print(format_table(result))
+    print(f"wrote {path}")
+    if not args.no_figures:
+        written = write_dmtp_figures(result, maze, out)
+        written += _write_agent_maps(maps, result, maze, out)
+        print(f"wrote {len(written)} figures to {out}/")
+    (out / "summary.json").write_text(json.dumps(result.summary(), indent=1) + "\n")
+    return 0
+
+
+def _collect_maps(maps: dict[str, Any]):
+    """After trial 1's first run, sample the reward map; after its last, the place fields along its paths.
+
+    Only for agents that offer ``reward_map`` / ``place_field_map`` (the hippocampal agent does).
+    """
+
+    def on_run_end(trial: int, run: int, agent: Any, env: Any) -> None:
+        if trial != 0 or not hasattr(agent, "reward_map"):
+            return
+        if run == 0:
+            grid = _grid(env.unwrapped.maze)
+            maps["reward_grid"], maps["reward_values"] = grid, agent.reward_map(env, grid)
+            maps["run1_path"] = env.unwrapped.path.copy()
+        maps.setdefault("visited", []).append(env.unwrapped.path.copy())
+        maps["agent"] = agent
+
+    return on_run_end
+
+
+def _write_agent_maps(maps: dict[str, Any], result: Any, maze: Any, out: Path) -> list[Path]:
+    import matplotlib.pyplot as plt
+
+    from hippo_agent.plots import plot_place_field, plot_reward_map, plot_trajectories
+
+    written: list[Path] = []
+    if "reward_values" in maps:
+        goal = result.episodes[0].goal
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
+        plot_trajectories([maps["run1_path"]], axes[0], maze=maze, goal=goal, title="trial 1, run 1 (exploring)")
+        plot_reward_map(maps["reward_grid"], maps["reward_values"], axes[1], maze=maze, goal=goal, title="reward map after run 1")
+        fig.tight_layout()
+        fig.savefig(out / "reward_map_after_run1.png", dpi=110)
+        plt.close(fig)
+        written.append(out / "reward_map_after_run1.png")
+    if "visited" in maps and hasattr(maps["agent"], "place_field_map"):
+        positions = np.concatenate(maps["visited"])
+        if len(positions) > MAX_MAP_POSITIONS:
+            positions = positions[np.linspace(0, len(positions) - 1, MAX_MAP_POSITIONS).astype(int)]
+        env = _analysis_env(maze)
+        rates = maps["agent"].place_field_map(env, positions)
+        cells = _example_cells(rates, EXAMPLE_PLACE_CELLS)
+        if len(cells):
+            fig, axes = plt.subplots(2, (len(cells) + 1) // 2, figsize=(4 * ((len(cells) + 1) // 2), 7.6), squeeze=False)
+            for ax, cell in zip(axes.ravel(), cells):
+                plot_place_field(positions, rates[:, cell], ax, maze=maze, title=f"place cell {cell}")
+            for ax in axes.ravel()[len(cells):]:
+                ax.set_visible(False)
+            fig.tight_layout()
+            fig.savefig(out / "place_fields.png", dpi=100)
+            plt.close(fig)
+            written.append(out / "place_fields.png")
+        env.close()
+    return written
+
+
+def _analysis_env(maze: Any) -> Any:
+    import gymnasium as gym
+
+    return gym.make("HippoMaze-v0", maze=maze)
+
+
+def _example_cells(rates: np.ndarray, count: int) -> np.ndarray:
+    """The cells with the strongest fields along the visited positions, spread over the arena."""
+    peak = np.nanmax(np.nan_to_num(rates, nan=0.0), axis=0)
+    ranked = np.argsort(peak)[::-1]
+    ranked = ranked[peak[ranked] > 0]
+    return ranked[np.linspace(0, max(len(ranked) // 2, 1) - 1, min(count, len(ranked))).astype(int)] if len(ranked) else ranked
+
+
+def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
+    """Free positions on a grid over the maze (at most ``MAX_MAP_POSITIONS``)."""
+    from hippo_agent.plots import grid_positions
+
+    grid = grid_positions(maze.size, spacing=spacing)
+    grid = grid[[maze.clearance(p) >= 0.17 for p in grid]]
+    if len(grid) > MAX_MAP_POSITIONS:
+        grid = grid[np.linspace(0, len(grid) - 1, MAX_MAP_POSITIONS).astype(int)]
+    return grid
+
+
+def run_paper_command(args: argparse.Namespace) -> int:
+    """Reproduce the paper's experiments (see benchmarks/paper.py)."""
+    try:
+        from benchmarks.paper import PaperArgs, run_paper
+    except ImportError as err:
+        raise ValueError(f"the paper benchmark is not available in this installation ({err}); run from a checkout with `pip install -e .`") from err
+    run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,284 @@
+"""The hippocampal agent's configuration: one frozen, validated, documented dataclass.
+
+Every field says its value, where the value comes from and, where the paper is ambiguous,
+which reading was chosen and why. Sources:
+
+- **paper**: ``shared/paper/paper.tex`` (equation numbers as there).
+- **model-figures**: ``shared/reference/model-figures.md`` (figures read from the authors' lab
+  implementation).
+- **feasibility**: ``shared/reference/feasibility.md`` (a prototype's measurements; its best row is
+  our starting point: trace rate 0.2, 20 replay iterations, lambda 0.05, tau_r 2, k 0.5, 1000 cells).
+- **tuned**: measured in this project on the open arena with ``hippo_env.protocol.run_dmtp``
+  (20 trials x 4 runs per seed, a fresh agent per trial), settings compared on the same seeds.
+  Medians quoted are of indirectness for runs 2 / 3 / 4 (or run 2 alone). Every comparison except
+  ``trace_rate``'s own was made at the earlier default ``trace_rate = 0.2``.
+
+All rates are per place-cell update, and the agent does one place-cell update per environment
+step (about 0.15 m of travel, close to the reference's 0.14 m per update).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+__all__ = ["AgentConfig"]
+
+
+@dataclass(frozen=True)
+class AgentConfig:
+    """Parameters of :class:`hippo_agent.HippocampalAgent`.
+
+    Construct with keyword arguments; anything left out keeps its default. Invalid values raise
+    ``ValueError`` naming the field and what is allowed. ``AgentConfig.from_dict(cfg.to_dict())``
+    round-trips exactly.
+    """
+
+    # ---------------------------------------------------------------- head direction cells
+    n_hd: int = 8
+    """Number of head-direction cells, preferred directions ``2*pi*k/n_hd`` (model-figures: 8 at
+    0, 45, ..., 315 deg). Also the number of preplay directions and of ``W_pp`` slices (the paper's
+    theta^h is both). Must be even and >= 4 (even: the opposite slice is then the exact negative,
+    see ``cells/place.py``)."""
+
+    # ---------------------------------------------------------------- boundary vector cells (eq. 2)
+    n_bvc_directions: int = 8
+    """BVC preferred allocentric directions, evenly spaced from 0 (east) counter-clockwise
+    (model-figures: 8)."""
+    n_bvc_distances: int = 50
+    """BVC preferred distances, ``linspace(0, max distance, n)`` (model-figures: 50 over [0, max range])."""
+    bvc_max_distance: float | None = None
+    """Largest preferred distance in metres; ``None`` = the observation space's ``max_range``
+    (model-figures: the rangefinder's max range, 10 m)."""
+    bvc_sigma_r: float = 0.5
+    """Radial tuning width sigma_r in metres (model-figures: 0.5 m, constant). With
+    ``bvc_distance_scaled`` it is the width at distance 0."""
+    bvc_distance_scaled: bool = False
+    """If true, sigma_r grows with the preferred distance as in Barry et al. (2006):
+    ``sigma_r(d) = bvc_sigma_r * (1 + d / bvc_beta)`` (the paper cites Barry et al. for eq. 2; the
+    reference implementation kept it constant, which is our default)."""
+    bvc_beta: float = 1.83
+    """Barry et al.'s beta in metres (1830 mm), used only with ``bvc_distance_scaled``."""
+    bvc_sigma_theta_deg: float = 1.0
+    """Angular tuning width sigma_theta in degrees (model-figures: 1 to 5 deg; the narrow end is
+    chosen: it keeps each BVC to a handful of rays, so the sum over rays is cheap, and with 8
+    directions wider tuning adds no information)."""
+    bvc_angular_cutoff: float = 3.0
+    """Only rays within this many sigma_theta of a BVC's direction enter its sum (the Gaussian
+    beyond 3 sigma is < 1.2 % of its peak); an implementation choice for speed."""
+    bvc_peak_rate: float = 0.5
+    """BVC rates are scaled so the largest possible response is this (model-figures: 0.5). The
+    largest response is that of a BVC to a boundary at exactly its preferred distance across its
+    whole angular tuning window (the angular Gaussian's integral, times the radial Gaussian's
+    peak); one constant for all BVCs, so with ``bvc_distance_scaled`` far BVCs stay weaker, as in
+    Barry et al."""
+    bvc_ignore_max_range: bool = True
+    """Rays that hit nothing (range >= max range) are not boundaries and do not drive BVCs. The
+    paper's BVCs respond to boundaries; a ray at its maximum range has not seen one."""
+
+    # ---------------------------------------------------------------- place cells (eqs. 3-5)
+    n_place: int = 1000
+    """Number of place cells N (model-figures: 200 to 1000, 1000 most often; feasibility: 250 leave
+    holes between fields, 1000 works)."""
+    k: float = 0.5
+    """Rate constant of eq. 3, ``dt / tau_p`` per update (model-figures: 0.1, later 0.5;
+    feasibility: 0.1 left 16 % of steps with no active cell, 0.5 left 0.03 %; tuned: 1.0 measured
+    a worse run 2, median 3.0 against 1.9 over 60 paired trials)."""
+    Gamma_pb: float = 0.3
+    """Feed-forward inhibition gain Gamma^pb of eq. 3 (model-figures: 0.3)."""
+    Gamma_pp: float = 0.5
+    """Recurrent inhibition gain Gamma^pp of eq. 3 (model-figures: 0.5)."""
+    psi: float = 1.0
+    """Gain psi of eq. 4, ``v = tanh([psi s]+)`` (model-figures: 1)."""
+    p_pb: float = 0.2
+    """Probability that an initial BVC -> place weight ``W_pb[i, j]`` is 1 (else 0) (paper: binary
+    start with probability p_pb; model-figures: 0.2 to 0.25)."""
+    eta_pb: float = 0.096
+    """Oja learning rate ``dt / tau_w^pb`` of eq. 5 per update (model-figures: dt = 0.096 with a
+    unit time constant, about 10 updates)."""
+    alpha_pb: float = math.sqrt(0.5)
+    """Oja normalising factor alpha_pb of eq. 5 (model-figures: sqrt(0.5))."""
+    settle_steps: int = 5
+    """Eq.-3 updates run from rest on the first observation of an episode, so a robot put down at
+    a new start does not carry the previous place's activity; an implementation choice (the
+    paper's robot is reintroduced with its network state unspecified)."""
+    analysis_settle_steps: int = 30
+    """Eq.-3 updates from rest used by ``place_rates_at`` / the maps (steady state for a static
+    observation; 30 updates at k = 0.5 converge to within 1e-6)."""
+
+    # ---------------------------------------------------------------- place -> place (eqs. 6-7)
+    trace_rate: float = 0.3
+    """Rate ``dt / tau_h`` at which the place-cell traces Upsilon^p move toward v per update (eq. 6)
+    (model-figures: 0.032; feasibility: 0.032 floods replay over the whole map, about 0.2, a window
+    of about one place field, gives a graded reward map). Tuned: 0.3 (a window of about 3 updates,
+    0.5 m) against 0.2 on 100 paired trials (seeds 0-4): runs 2-4 better in 161 pairs, worse in
+    122 (sign test p ~ 0.02), medians 1.43 / 0.56 / 0.69 against 1.54 / 0.79 / 0.70 for runs 2-4.
+    A shorter window gives fewer long, weak links, which replay's ``tanh(v + W v)`` otherwise
+    amplifies (a drive d settles near (3d)^(1/3)) into a flatter reward map."""
+    hd_trace_rate: float = 1.0
+    """Rate at which the head-direction trace Upsilon^h moves toward v^h (eq. 6). 1.0 = the
+    instantaneous head direction, as in the reference implementation (it gated with h_k, not a
+    trace); a slower trace would smear the direction across the 45-deg turns of exploration."""
+    trace_floor: float = 1e-3
+    """Trace values below this are set to exactly 0, so the set of cells a ``W_pp`` update touches
+    stays small (about 20 updates after a cell falls silent at trace rate 0.3); an implementation
+    choice for the sparse update (tuned: 0.02, a shorter tail, measured slightly worse at trace rate 0.2)."""
+    eta_pp: float = 1.0
+    """Learning rate ``dt / tau_w^pp`` of eq. 7 (model-figures: 1, ``W[k] += h_k (...)``)."""
+
+    # ---------------------------------------------------------------- replay (Algorithm 1)
+    replay_iterations: int = 20
+    """n_rs, iterations of backward replay (model-figures: 10, later 20; feasibility: 20)."""
+    tau_r: float = 1.0
+    """Replay decay tau_r in iterations, ``exp(-t_r / tau_r)`` (model-figures: 6; feasibility: 2
+    gives a map graded around the goal instead of a flat one). Tuned at trace rate 0.3 on 100
+    paired trials (seeds 0-4): 1.0 against 2.0, runs 2-4 better in 165 pairs, worse in 115, mean
+    log(1 + indirectness) lower by 0.19 +- 0.06; medians 1.01 / 0.49 / 0.49 against 1.43 / 0.56 /
+    0.69. 1.5 fell between and 0.7 was no better. On held-out seeds 5-6 (40 trials) the tuned
+    defaults (trace rate 0.3, tau_r 1, bump escape 3) beat the feasibility row's (0.2, 2, 0) in 68
+    pairs and lost 47, but with a worse run-2 median (1.98 against 1.52). Replay's tanh saturates every reached cell, so after iteration
+    ``t_i`` a cell gains about ``exp(-t_i / tau_r)`` per iteration: a short tau_r keeps the value
+    steep around the goal, where the near misses happen."""
+
+    # ---------------------------------------------------------------- exploitation (eqs. 8-11)
+    lambda_: float = 0.05
+    """Depression lambda of eq. 11, applied to the effective reward weights of the active place
+    cells at each exploitation decision, reset each episode (model-figures: 0.2; feasibility: 0
+    loops, 0.2 makes a self-avoiding search, 0.05 best; tuned: 0.02 and 0.1 both measured worse,
+    run-2 median 2.0 and 3.6 against 1.9 over 40 paired trials)."""
+    xi: float = 1e-3
+    """Explore/exploit threshold xi: exploit only if the best preplayed direction's value (eq. 9)
+    is >= xi (paper: max_a v^r|a >= xi; model-figures: 1e-3)."""
+    xi_here: float = 1e-6
+    """Also explore when the value of the current place (``W_rp v / sum v``) is <= this
+    (model-figures: 1e-6; the paper does not say; it stops the agent from following imagined
+    steps out of a place the reward map has never reached)."""
+
+    # ---------------------------------------------------------------- exploration
+    segment_min: int = 5
+    """Shortest straight exploration segment in steps (model-figures: 5 place-cell updates)."""
+    segment_max: int = 10
+    """Longest straight exploration segment in steps, inclusive (model-figures: 10)."""
+    turn_sigma_deg: float = 30.0
+    """Standard deviation of the turn between segments, degrees (model-figures: N(0, 30 deg))."""
+    bump_escape_steps: int = 3
+    """After a bump while exploiting, this many exploration steps in the new random direction
+    before preplay resumes (0 = none). The paper does not say what an exploiting robot does at a
+    wall; without an escape, preplay (whose broad cosine-tuned slices also predict sliding along
+    a wall) can keep choosing a blocked heading, and in measurements some runs bumped 900 times
+    and timed out. A bump is the same reflex as in exploration (model-figures: a random turn and
+    a new segment), kept short so exploitation resumes quickly (tuned: 3 vs 0 raised runs 2-4
+    success from 98.9 % to 100 % and cut the run-2 median from 1.9 to 1.4 over 60 paired trials;
+    6 measured the same as 3)."""
+    discrete_rounding: Literal["stochastic", "nearest"] = "stochastic"
+    """How a continuous intended heading becomes one of the 8 discrete actions. ``"stochastic"``:
+    the neighbouring action toward the heading is taken with probability equal to the fraction of
+    the 45 deg gap, so the mean travel direction equals the intended one and exploration stays an
+    isotropic random walk (not one confined to 8 lattice directions); ``"nearest"``: round to the
+    closest. Used for exploration and exploitation alike (tuned: ``"nearest"`` measured far worse,
+    run-2 median 5.3 against 1.9 over 40 paired trials: exploitation then moves on a lattice of
+    8 headings and overshoots)."""
+
+    # ---------------------------------------------------------------- schedule
+    dry_run_steps: int = 5000
+    """Goal-free steps in ``prepare`` with only BVC -> place learning on (paper: a dry run;
+    model-figures: about 25,000; feasibility: 5,000 works almost as well)."""
+    learn_pb_in_trials: bool = True
+    """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
+    exploration; model-figures: learning stays on in runs 2-4)."""
+    learn_pp_in_exploitation: bool = True
+    """Keep ``W_pp`` learning (eq. 7) on in exploiting runs (model-figures: learning still on)."""
+
+    # ------------------------------------------------------------------------------------------
+    def __post_init__(self) -> None:
+        def bad(name: str, allowed: str) -> ValueError:
+            return ValueError(
+                f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}"
+            )
+
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if f.name == "bvc_max_distance" and value is None:
+                continue
+            if f.type in ("bool",):
+                if not isinstance(value, bool):
+                    raise bad(f.name, "True or False")
+            elif f.type == "int":
+                if isinstance(value, bool) or not isinstance(value, int):
+                    raise bad(f.name, "an integer")
+            elif f.type in ("float", "float | None"):
+                if isinstance(value, bool) or not isinstance(value, (int, float)):
+                    raise bad(f.name, "a finite number")
+                if not math.isfinite(float(value)):
+                    raise bad(f.name, "a finite number (not NaN or inf)")
+
+        def positive(*names: str) -> None:
+            for n in names:
+                if not getattr(self, n) > 0:
+                    raise bad(n, "a value > 0")
+
+        def non_negative(*names: str) -> None:
+            for n in names:
+                if not getattr(self, n) >= 0:
+                    raise bad(n, "a value >= 0")
+
+        def unit_interval(*names: str, open_low: bool = True) -> None:
+            for n in names:
+                v = getattr(self, n)
+                if not ((0 < v <= 1) if open_low else (0 <= v <= 1)):
+                    raise bad(n, "a value in (0, 1]" if open_low else "a value in [0, 1]")
+
+        if self.n_hd < 4 or self.n_hd % 2:
+            raise bad("n_hd", "an even integer >= 4")
+        for n in ("n_bvc_directions", "n_bvc_distances", "n_place", "replay_iterations",
+                  "segment_min"):
+            if getattr(self, n) < 1:
+                raise bad(n, "an integer >= 1")
+        if self.n_bvc_distances < 2:
+            raise bad("n_bvc_distances", "an integer >= 2")
+        non_negative("settle_steps", "dry_run_steps", "bump_escape_steps")
+        if self.analysis_settle_steps < 1:
+            raise bad("analysis_settle_steps", "an integer >= 1")
+        if self.segment_max < self.segment_min:
+            raise bad("segment_max", f"an integer >= segment_min ({self.segment_min})")
+        if self.bvc_max_distance is not None:
+            positive("bvc_max_distance")
+        positive("bvc_sigma_r", "bvc_beta", "bvc_sigma_theta_deg", "bvc_angular_cutoff",
+                 "bvc_peak_rate", "psi", "alpha_pb", "tau_r", "eta_pp")
+        if self.bvc_sigma_theta_deg > 45:
+            raise bad("bvc_sigma_theta_deg", "a value in (0, 45] degrees")
+        unit_interval("k", "trace_rate", "hd_trace_rate")
+        unit_interval("p_pb", open_low=False)
+        if not 0 <= self.eta_pb < 1:
+            raise bad("eta_pb", "a value in [0, 1)")
+        if not 0 <= self.lambda_ <= 1:
+            raise bad("lambda_", "a value in [0, 1]")
+        if not 0 <= self.trace_floor < 1:
+            raise bad("trace_floor", "a value in [0, 1)")
+        non_negative("Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg")
+        if self.discrete_rounding not in ("stochastic", "nearest"):
+            raise bad("discrete_rounding", "'stochastic' or 'nearest'")
+
+    # ------------------------------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """The config as a JSON-serialisable dict (field name -> value)."""
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "AgentConfig":
+        """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
+        if not isinstance(data, dict):
+            raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise ValueError(
+                f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(known)}"
+            )
+        return cls(**data)
+
+    def replace(self, **changes: Any) -> "AgentConfig":
+        """A copy with some fields changed (validated like the original)."""
+        return dataclasses.replace(self, **changes)

@@ -1,0 +1,303 @@
+"""HippocampalAgent: spaces and config validation, the protocol, exploration, preplay/exploitation,
+determinism, analysis helpers and plots, and the agent in the real environment."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent import plots
+
+SMALL = AgentConfig(n_place=300, dry_run_steps=1500)
+
+
+def obs_space(n_rays=720, max_range=10.0):
+    return gym.spaces.Dict({
+        "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
+        "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+    })
+
+
+DISCRETE = gym.spaces.Discrete(8)
+HEADING = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
+
+
+@pytest.fixture
+def small_maze(tmp_path):
+    path = tmp_path / "small.json"
+    path.write_text(json.dumps({"name": "small", "size": [4.0, 4.0], "obstacles": []}))
+    return str(path)
+
+
+def make_env(maze="open", action_type="discrete", seed=0, **kw):
+    env = gym.make("HippoMaze-v0", maze=maze, n_rays=720, max_range=10.0, action_type=action_type, **kw)
+    env.reset(seed=seed)
+    return env
+
+
+def run_episode(env, agent, options=None, max_steps=10_000):
+    obs, info = env.reset(options=options)
+    agent.reset(obs, info)
+    positions, actions = [info["position"]], []
+    for _ in range(max_steps):
+        action = agent.act(obs)
+        actions.append(action)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        positions.append(info["position"])
+        if terminated or truncated:
+            break
+    return info, np.array(positions), actions
+
+
+# ------------------------------------------------------------------ spaces and config
+def test_rejects_unsupported_action_spaces():
+    with pytest.raises(ValueError, match="action space .* is unsupported; allowed: Discrete"):
+        HippocampalAgent(obs_space(), gym.spaces.Box(-1, 1, (2,), np.float32))  # wheels
+    with pytest.raises(ValueError, match="unsupported"):
+        HippocampalAgent(obs_space(), gym.spaces.Box(-1, 1, (1,), np.float32))  # not a full circle
+    with pytest.raises(ValueError, match="unsupported"):
+        HippocampalAgent(obs_space(), gym.spaces.MultiDiscrete([8, 8]))
+
+
+def test_rejects_unsupported_observation_spaces():
+    with pytest.raises(ValueError, match="observation space"):
+        HippocampalAgent(gym.spaces.Box(0, 1, (720,)), DISCRETE)
+    bad = gym.spaces.Dict({"ranges": gym.spaces.Box(0, np.inf, (720,)), "heading": gym.spaces.Box(-1, 1, (2,))})
+    with pytest.raises(ValueError, match="finite max range"):
+        HippocampalAgent(bad, DISCRETE)
+    bad = gym.spaces.Dict({"ranges": gym.spaces.Box(0, 10, (720,)), "heading": gym.spaces.Box(-1, 1, (1,))})
+    with pytest.raises(ValueError, match="'heading'"):
+        HippocampalAgent(bad, DISCRETE)
+
+
+@pytest.mark.parametrize(
+    "field, value, allowed",
+    [
+        ("n_place", -5, ">= 1"),
+        ("n_place", 2.5, "integer"),
+        ("k", float("nan"), "finite"),
+        ("k", 1.5, "(0, 1]"),
+        ("trace_rate", 0.0, "(0, 1]"),
+        ("lambda_", float("inf"), "finite"),
+        ("lambda_", -0.1, "[0, 1]"),
+        ("p_pb", 2.0, "[0, 1]"),
+        ("bvc_sigma_r", -0.5, "> 0"),
+        ("n_hd", 7, "even"),
+        ("dry_run_steps", -1, ">= 0"),
+        ("segment_max", 2, "segment_min"),
+        ("discrete_rounding", "floor", "'stochastic' or 'nearest'"),
+        ("bvc_distance_scaled", 1, "True or False"),
+        ("xi", -1e-3, ">= 0"),
+    ],
+)
+def test_bad_config_raises_naming_the_field(field, value, allowed):
+    with pytest.raises(ValueError) as err:
+        AgentConfig(**{field: value})
+    assert f"AgentConfig.{field}=" in str(err.value) and allowed in str(err.value)
+
+
+def test_config_round_trips_through_dict_and_rejects_unknown_keys():
+    cfg = AgentConfig(n_place=123, lambda_=0.1, bvc_max_distance=8.0)
+    assert AgentConfig.from_dict(json.loads(json.dumps(cfg.to_dict()))) == cfg
+    with pytest.raises(ValueError, match="unknown AgentConfig field"):
+        AgentConfig.from_dict({"n_cells": 3})
+    with pytest.raises(Exception):
+        cfg.n_place = 5  # frozen
+    with pytest.raises(ValueError, match="config must be an AgentConfig"):
+        HippocampalAgent(obs_space(), DISCRETE, config={"n_place": 3})
+
+
+# ------------------------------------------------------------------ actions
+def test_circular_mean_of_negative_angles_maps_to_the_right_action():
+    agent = HippocampalAgent(obs_space(), DISCRETE, AgentConfig(n_place=20, discrete_rounding="nearest"), seed=0)
+    assert agent._to_action(-math.pi / 4) == 7
+    assert agent._to_action(-math.pi / 2 - 0.1) == 6
+    assert agent._to_action(math.pi - 0.01) == 4 and agent._to_action(-math.pi + 0.01) == 4
+    assert agent._to_action(0.1) == 0 and agent._to_action(-0.1) == 0
+    h = HippocampalAgent(obs_space(), HEADING, AgentConfig(n_place=20), seed=0)
+    a = h._to_action(-3 * math.pi / 4)
+    assert a.shape == (1,) and a.dtype == np.float32 and a[0] == pytest.approx(-3 * math.pi / 4)
+    assert HEADING.contains(h._to_action(7.0))  # wrapped into [-pi, pi)
+
+
+def test_stochastic_rounding_is_unbiased():
+    agent = HippocampalAgent(obs_space(), DISCRETE, AgentConfig(n_place=20), seed=0)
+    target = math.radians(10.0)  # between action 0 (0 deg) and 1 (45 deg)
+    acts = np.array([agent._to_action(target) for _ in range(4000)])
+    assert set(acts) == {0, 1}
+    assert np.mean(acts == 1) == pytest.approx(10 / 45, abs=0.03)
+    acts = np.array([agent._to_action(-target) for _ in range(2000)])
+    assert set(acts) == {0, 7}
+
+
+# ------------------------------------------------------------------ preplay / exploitation decision
+def test_preplay_picks_the_direction_of_higher_value():
+    agent = HippocampalAgent(obs_space(), DISCRETE, AgentConfig(n_place=6, discrete_rounding="nearest"), seed=0)
+    agent.start_trial(0)
+    pc = agent.place
+    # learnt topology: from cell 0, south-east (direction 7, -45 deg) leads to cell 1, north to cell 2
+    pc.set_W_pp(0, 1, 2.0 * np.cos(-math.pi / 4 - agent._directions))
+    pc.set_W_pp(0, 2, 2.0 * np.cos(math.pi / 2 - agent._directions))
+    agent.reward.W_rp[0] = [0.2, 1.0, 0.3, 0, 0, 0]
+    agent.reward.reset_effective()
+    agent.goal_rewarded = True
+    pc.v = np.array([0.8, 0, 0, 0, 0, 0])
+    heading = agent._exploit_heading()
+    assert heading is not None and -math.pi / 2 < heading < 0  # toward the higher value, south-east
+    assert agent._to_action(heading) == 7
+    assert agent.reward.W_eff[0] == pytest.approx(0.2 * (1 - 0.8 * agent.config.lambda_))  # eq. 11
+    # with no value anywhere (below xi) the agent explores
+    agent.reward.W_eff[:] = 0.0
+    assert agent._exploit_heading() is None
+
+
+# ------------------------------------------------------------------ in the environment
+def test_protocol_and_dry_run_in_the_real_env():
+    env = make_env(seed=3)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=200, dry_run_steps=400), seed=3)
+    W0 = agent.place.W_pb.copy()
+    agent.prepare(env)
+    assert not np.array_equal(agent.place.W_pb, W0)  # eq. 5 learnt in the dry run
+    assert np.all(agent.place.W_pp == 0)  # ... and only eq. 5
+    assert agent.reward.n == 0
+    agent.start_trial(0)
+    info, positions, actions = run_episode(env, agent, options={"new_goal": True}, max_steps=300)
+    assert all(env.action_space.contains(a) for a in actions)
+    assert np.any(agent.place.W_pp != 0)  # eq. 7 learns in runs
+    assert agent.reward.n == 1
+
+
+def test_dry_run_resets_on_truncation():
+    env = make_env(seed=0, max_episode_steps=50)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=100, dry_run_steps=180), seed=0)
+    agent.prepare(env)
+    assert agent.total_steps == 180
+
+
+def test_exploration_is_a_random_walk_of_straight_segments():
+    env = make_env(seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=100, discrete_rounding="nearest"), seed=1)
+    info, positions, actions = run_episode(env, agent, options={"goal": None}, max_steps=2000)
+    actions = np.array(actions)
+    assert set(actions) == set(range(8))  # all directions get used
+    runs = np.diff(np.flatnonzero(np.diff(actions) != 0))
+    assert np.median(runs) >= 4  # straight segments, not a jitter
+    assert agent.episode_stats["explore"] == 2000 and agent.episode_stats["bumps"] > 0
+    spread = positions.max(axis=0) - positions.min(axis=0)
+    assert np.all(spread > 5.0)  # it covers the 10 m arena
+
+
+def test_bump_starts_a_new_segment_in_a_random_direction():
+    agent = HippocampalAgent(obs_space(), HEADING, AgentConfig(n_place=20), seed=0)
+    ranges = np.full(720, 3.0, np.float32)
+    obs = {"ranges": ranges, "heading": np.array([1.0, 0.0], np.float32)}
+    agent.reset(obs, {})
+    headings = set()
+    for _ in range(20):
+        agent.observe(agent.act(obs), obs, 0.0, False, False, {"collision": True})
+        headings.add(round(agent.intended_heading, 6))
+    assert len(headings) == 20
+
+
+def test_bump_while_exploiting_escapes_for_a_few_steps():
+    cfg = AgentConfig(n_place=6, bump_escape_steps=3)
+    agent = HippocampalAgent(obs_space(), HEADING, cfg, seed=0)
+    obs = {"ranges": np.full(720, 3.0, np.float32), "heading": np.array([1.0, 0.0], np.float32)}
+    agent.reset(obs, {})
+    agent.start_trial(0)
+    agent.goal_rewarded = True
+    # force exploitation: every preplayed direction leads to cell 1, which holds value
+    agent.place.set_W_pp(0, 1, np.full(8, 2.0))
+    agent.reward.W_rp[0] = [0.5, 1.0, 0, 0, 0, 0]
+    agent.reward.reset_effective()
+    agent.place.v = np.array([0.8, 0, 0, 0, 0, 0])
+    agent.place.s = agent.place.v.copy()
+    agent.place.step = lambda b, n_steps=1: agent.place.v  # hold the rates fixed for this test
+    agent.act(obs)
+    assert agent.last_decision == "exploit"
+    agent.observe(np.array([0.0], np.float32), obs, 0.0, False, False, {"collision": True})
+    decisions = []
+    for _ in range(5):
+        agent.act(obs)
+        decisions.append(agent.last_decision)
+        agent.observe(np.array([0.0], np.float32), obs, 0.0, False, False, {"collision": False})
+    assert decisions == ["explore"] * 3 + ["exploit"] * 2
+
+
+@pytest.mark.parametrize("action_type", ["discrete", "heading"])
+def test_determinism_by_seed(action_type):
+    def trajectory(agent_seed):
+        env = make_env(action_type=action_type, seed=7)
+        agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=200, dry_run_steps=300), seed=agent_seed)
+        agent.prepare(env)
+        agent.start_trial(0)
+        _, positions, actions = run_episode(env, agent, options={"goal": [1.0, 1.0]}, max_steps=400)
+        return positions, np.asarray(actions, dtype=float), agent
+
+    p1, a1, ag1 = trajectory(11)
+    p2, a2, ag2 = trajectory(11)
+    np.testing.assert_array_equal(a1, a2)
+    np.testing.assert_array_equal(p1, p2)
+    np.testing.assert_array_equal(ag1.place.W_pp, ag2.place.W_pp)
+    _, a3, ag3 = trajectory(12)
+    assert not np.array_equal(ag1.place.W_pb, ag3.place.W_pb)
+
+
+def test_exploitation_reaches_the_goal_after_one_rewarded_run(small_maze):
+    """A 4 m x 4 m arena: run 1 explores to the goal; run 2 from the same start exploits."""
+    results = []
+    for seed in range(3):
+        env = make_env(small_maze, seed=seed)
+        agent = HippocampalAgent(env.observation_space, env.action_space, SMALL, seed=seed)
+        agent.prepare(env)
+        agent.start_trial(0)
+        start = {"start": [-1.3, -1.3], "heading": 0.0}
+        info1, _, _ = run_episode(env, agent, options={"goal": [1.2, 1.2], **start})
+        assert info1["is_success"] and agent.goal_rewarded
+        info2, _, _ = run_episode(env, agent, options=start, max_steps=400)
+        results.append((info2["is_success"], info2.get("indirectness", np.inf), agent.episode_stats["exploit"]))
+    assert all(ok for ok, _, _ in results), results
+    assert all(n_exploit > 0 for _, _, n_exploit in results), results
+    assert sorted(ind for _, ind, _ in results)[1] < 1.0, results  # median run 2 is near-direct
+
+
+def test_analysis_maps_and_plots(small_maze):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    env = make_env(small_maze, seed=0)
+    agent = HippocampalAgent(env.observation_space, env.action_space, SMALL, seed=0)
+    agent.prepare(env)
+    agent.start_trial(0)
+    info, positions, _ = run_episode(env, agent, options={"goal": [1.0, 1.0]})
+    grid = plots.grid_positions((4.0, 4.0), spacing=0.4)
+    fields = agent.place_field_map(env, grid)
+    assert fields.shape == (len(grid), 300) and np.all(fields >= 0)
+    np.testing.assert_allclose(agent.place_rates_at(env.unwrapped.observation_at(grid[3], 0.0)), fields[3])
+    values = agent.reward_map(env, grid)
+    assert values.shape == (len(grid),) and np.nanmax(values) > 0
+    near = np.argmin(np.linalg.norm(grid - [1.0, 1.0], axis=1))
+    far = np.argmin(np.linalg.norm(grid - [-1.6, -1.6], axis=1))
+    assert values[near] > values[far]  # the reward map peaks toward the goal
+    assert agent.value_at(env.unwrapped.observation_at(grid[near], 0.0)) == pytest.approx(values[near])
+
+    cell = int(np.nanargmax(fields.max(axis=0)))
+    fig, ax = plots.plot_place_field(grid, fields[:, cell], maze=env.unwrapped.maze, goal=[1.0, 1.0])
+    assert ax.figure is fig
+    fig2, axes = plt.subplots(1, 2)
+    f, a = plots.plot_reward_map(grid, values, ax=axes[0], size=(4.0, 4.0))
+    assert a is axes[0] and f is fig2
+    f, a = plots.plot_trajectories([positions], ax=axes[1], size=(4.0, 4.0), goal=[1.0, 1.0], labels=["run 1"])
+    assert a is axes[1]
+    with pytest.raises(ValueError, match="one value per position"):
+        plots.plot_place_field(grid, fields[:3, 0])
+    plt.close("all")

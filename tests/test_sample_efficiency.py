@@ -1,0 +1,218 @@
+"""The sample-efficiency benchmark: tiny-budget smoke runs (records complete and well-formed for every
+agent, pre-exploration counted, resumable), the local pool and Ray giving the same records, and the
+analysis (pooling, steps to criterion, IQM intervals, the headline's "> budget")."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from baselines import RandomAgent
+from benchmarks import sample_efficiency as se
+
+pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
+
+HIPPO = importlib.util.find_spec("hippo_agent") is not None
+AGENTS = ["random", "dqn", "ppo", "dynaq"] + (["hippo"] if HIPPO else [])
+BUDGET, SWITCH = 1200, 500
+QUICK = ["--quick", "--seeds", "1", "--mazes", "open", "--dense-agents", "dqn", "--dense-seeds", "1",
+         "--budget", str(BUDGET), "--dynaq-budget", str(BUDGET), "--switch-budget", str(SWITCH),
+         "--hippo-days", "2", "--hippo-runs", "3", "--no-progress"]  # fmt: skip
+EPISODE_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
+
+
+def _strip(record: dict) -> dict:
+    return {k: v for k, v in record.items() if k != "seconds"}
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("se")
+    summary = se.main([*QUICK, "--agents", *AGENTS, "--out", str(out)])
+    return out, summary
+
+
+def _records(out: Path) -> dict[str, dict]:
+    return {p.name.removesuffix(".json.gz"): se.load_record(p) for p in sorted((out / "sample_efficiency").glob("*.json.gz"))}
+
+
+class TestQuickRun:
+    def test_every_job_has_a_well_formed_record(self, quick):
+        out, _ = quick
+        records = _records(out)
+        expected = {f"{a}__open__sparse__seed0" for a in AGENTS} | {"dqn__open__dense__seed0"}
+        assert set(records) == expected
+        for name, record in records.items():
+            assert record is not None, name
+            assert {"job", "name", "privileged", "learn", "agent_config", "seconds"} <= set(record)
+            assert record["privileged"] == (record["job"]["agent"] == "dynaq")
+            # a goal-switch day only for an agent that became direct on its first goal
+            assert ("switch" in record) == (record["learn"]["direct_at"] is not None)
+            for phase in [p for p in ("learn", "switch") if p in record]:
+                p = record[phase]
+                assert {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "episodes", "prepare_steps", "cut_steps"} <= set(p)
+                columns = p["episodes"]
+                assert set(columns) == EPISODE_KEYS
+                n = len(columns["steps"])
+                assert n > 0 and all(len(v) == n for v in columns.values()), name
+                assert all(isinstance(s, int) and s > 0 for s in columns["steps"])
+                assert all(isinstance(b, bool) for b in columns["success"])
+                assert all(v is None or (isinstance(v, float) and math.isfinite(v)) for v in columns["indirectness"])
+                assert all(len(xy) == 2 for xy in columns["start"] + columns["goal"])
+                # every step is accounted for: pre-exploration + recorded runs + a run cut by the budget
+                assert p["cut_steps"] >= 0
+                assert p["env_steps_total"] == sum(p["prepare_steps"]) + sum(columns["steps"]) + p["cut_steps"]
+            job = record["job"]
+            if job["agent"] != "hippo":
+                assert record["learn"]["env_steps_total"] == job["budget"] == BUDGET
+
+    @pytest.mark.skipif(not HIPPO, reason="hippo_agent is not importable")
+    def test_hippo_dry_run_is_counted(self, quick):
+        out, _ = quick
+        record = _records(out)["hippo__open__sparse__seed0"]
+        dry = se.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
+        learn = record["learn"]
+        assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per day
+        assert learn["env_steps_total"] >= 2 * dry + sum(learn["episodes"]["steps"])
+        reps = se.replicates(learn)
+        assert [r.start[0] for r in reps] == [dry, dry]  # each day's first run starts after its dry run
+
+    def test_summary_and_figures(self, quick):
+        out, _ = quick
+        data = json.loads((out / "sample_efficiency_quick.json").read_text())
+        assert {"command", "curves", "per_seed", "headline", "headline_markdown", "switch_markdown"} <= set(data)
+        names = {row["agent"] for row in data["headline"]}
+        assert names == set(AGENTS) | {"dqn-dense"}
+        for row in data["headline"]:
+            assert "open" in row and "switch" in row["open"]
+        assert "(privileged)" in data["headline_markdown"]
+        for png in ("sample_efficiency_quick.png", "sample_efficiency_quick_goal_switch.png"):
+            assert (out / png).stat().st_size > 10_000
+
+    def test_resume_skips_finished_jobs(self, quick):
+        out, _ = quick
+        files = sorted((out / "sample_efficiency").glob("*.json.gz"))
+        before = {p: p.stat().st_mtime_ns for p in files}
+        se.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
+        assert {p: p.stat().st_mtime_ns for p in files} == before
+
+
+class PreparingAgent(RandomAgent):
+    """A random agent with a 123-step pre-exploration."""
+
+    def prepare(self, env):
+        env.reset()
+        for _ in range(123):
+            env.step(env.action_space.sample())
+
+
+class GoalSeeker(RandomAgent):
+    """A privileged test agent that heads straight for the goal: direct from its first run."""
+
+    def reset(self, observation, info):
+        self.info = info
+
+    def act(self, observation):
+        (x, y), (gx, gy) = self.info["position"], self.info["goal"]
+        return round(math.atan2(gy - y, gx - x) / (math.pi / 4)) % 8
+
+    def observe(self, action, observation, reward, terminated, truncated, info):
+        self.info = info
+
+
+def test_goal_switch_day():
+    job = se.Job("test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, days=1, runs=400, max_episode_steps=300)
+    record = se.run_job(job)
+    assert record["learn"]["direct_at"] == 0
+    switch = record["switch"]
+    assert switch["env_steps_total"] == 600 and switch["prepare_steps"] == [0]
+    assert math.dist(switch["episodes"]["goal"][0], switch["old_goal"]) >= 2.0  # the goal moved
+    assert switch["old_goal"] == record["learn"]["episodes"]["goal"][-1]
+    assert se.switch_cost(switch, window=10) == (0, 0)
+
+
+def test_pre_exploration_counts_for_any_agent():
+    job = se.Job("test_sample_efficiency:PreparingAgent", "open", 0, budget=0, switch_budget=0, days=2, runs=2, max_episode_steps=100)
+    record = se.run_job(job)
+    learn = record["learn"]
+    assert learn["prepare_steps"] == [123, 123]
+    assert learn["env_steps_total"] == 246 + sum(learn["episodes"]["steps"])
+
+
+def test_ray_and_local_pool_give_the_same_records(quick, tmp_path):
+    ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e .[ray]")
+    out, _ = quick
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        se.main([*QUICK, "--agents", "dqn", "ppo", "--mazes", "open", "--dense-seeds", "0", "--engine", "ray", "--out", str(tmp_path), "--no-aggregate"])
+    finally:
+        ray.shutdown()
+    local, remote = _records(out), _records(tmp_path)
+    assert set(remote) == {"dqn__open__sparse__seed0", "ppo__open__sparse__seed0"}
+    for name, record in remote.items():
+        assert _strip(record) == _strip(local[name]), name
+
+
+# -------------------------------------------------------------------------------------------- analysis
+def _rep(steps, success, indirectness, offset=0):
+    steps = np.asarray(steps, float)
+    end = offset + np.cumsum(steps)
+    return se.Replicate(end - steps, end, np.asarray(success, bool), np.asarray(indirectness, float))
+
+
+class TestAnalysis:
+    def test_steps_to_criterion_of_a_learner(self):
+        # 3 long failures, then short direct runs. The window of 10 that starts with the last failure
+        # already has 9/10 successes and a median of 0.2, but the run in progress is a failure:
+        # direct from the first direct run on.
+        rep = _rep([1000, 1000, 1000] + [40] * 20, [False] * 3 + [True] * 20, [50.0] * 3 + [0.2] * 20)
+        assert se.metrics_at([rep], 2000, window=10) == (0.9, 0.2)
+        assert not se.direct_at([rep], 2000, window=10)
+        assert se.steps_to_criterion([rep], window=10) == 3000
+
+    def test_the_run_in_progress_counts(self):
+        # hippo-like days: a dry run, one exploring run, then direct runs. A day is not direct before its
+        # run 2; the pooled median is direct once 6 of the 10 days are past run 1 (day 5's run 1 ends at 3000).
+        days = [_rep([2000 + 100 * d] + [40] * 40, [True] * 41, [20.0] + [0.1] * 40, offset=500) for d in range(10)]
+        assert se.steps_to_criterion(days, window=10) == 500 + 2000 + 500
+        ok, ind, n = se.pool_at(days, 0, window=10)
+        assert n == 10
+        assert ok.size == 10 and np.all(ind == 20.0)
+
+    def test_never_direct(self):
+        rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
+        assert se.steps_to_criterion([rep], window=10) is None
+        cell = se.summarize_steps([None, None, 5000.0], budget=300_000)
+        assert cell["median_steps"] is None and cell["reached"] == 1
+        assert se.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
+        assert se.ratio(cell, {"median_steps": 6000.0}) == "> 50"
+
+    def test_median_over_seeds_counts_the_censored_ones(self):
+        cell = se.summarize_steps([1000.0, None, 3000.0], budget=10_000)
+        assert cell["median_steps"] == 3000.0  # [1000, 3000, inf]
+
+    def test_iqm_interval(self):
+        values = np.array([1.0, 2.0, 3.0, 4.0, 100.0])
+        point, low, high = se.iqm_ci([values])
+        assert point == pytest.approx(3.0) and low <= point <= high
+        p2, l2, h2 = se.iqm_ci([values, values + 1])  # two strata
+        assert l2 <= p2 <= h2
+        point, low, high = se.iqm_ci([np.array([np.nan, 1.0])])  # one seed: a point, no interval
+        assert point == 1.0 and math.isnan(low) and math.isnan(high)
+        assert all(math.isnan(v) for v in se.iqm_ci([np.array([np.nan])]))
+
+    def test_switch_cost(self):
+        # an exploring first run, then direct ones: one episode (and its steps) to be direct again
+        phase = {"trials": 1, "prepare_steps": [0], "episodes": {"trial": [0] * 12, "steps": [900] + [40] * 11,
+                 "success": [True] * 12, "indirectness": [25.0] + [0.3] * 11}}  # fmt: skip
+        assert se.switch_cost(phase, window=10) == (1, 900)
+
+
+def test_bad_engine_is_refused():
+    with pytest.raises(SystemExit):
+        se.parse_args(["--engine", "dask"])
