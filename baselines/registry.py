@@ -1,0 +1,121 @@
+"""Agents by name: what ``hippomaze dmtp --agent A`` and the benchmarks use to build them.
+
+>>> from baselines.registry import agent_factory
+>>> make = agent_factory("dqn", learning_rate=1e-3)
+>>> agent = make(env.observation_space, env.action_space, 0)
+
+Every factory has the signature ``factory(observation_space, action_space, seed) -> agent``
+that :func:`hippo_env.protocol.run_dmtp` expects. Heavy imports (torch, stable-baselines3,
+the hippocampal model) happen only when a factory is called.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import fields, replace
+from typing import Any
+
+import gymnasium as gym
+
+from hippo_env.protocol import load_agent_class
+
+#: The built-in agent names. ``dynaq`` is PRIVILEGED (it reads the true position).
+AGENT_NAMES: tuple[str, ...] = ("hippo", "random", "dqn", "ppo", "dynaq")
+
+#: Agents that read ``info["position"]`` (shown as "privileged" in every table).
+PRIVILEGED: frozenset[str] = frozenset({"dynaq"})
+
+Factory = Callable[[gym.spaces.Space, gym.spaces.Space, int], Any]
+
+
+def _hippo(**overrides: Any) -> Factory:
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+        try:
+            from hippo_agent import AgentConfig, HippocampalAgent
+        except ImportError as err:
+            raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
+        if not overrides:
+            return HippocampalAgent(observation_space, action_space, seed=seed)
+        allowed = {f.name for f in fields(AgentConfig)}
+        unknown = sorted(set(overrides) - allowed)
+        if unknown:
+            raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+        return HippocampalAgent(observation_space, action_space, config=replace(AgentConfig(), **overrides), seed=seed)
+
+    return make
+
+
+def _random(**overrides: Any) -> Factory:
+    if overrides:
+        raise ValueError(f"the random agent takes no parameters, got {', '.join(sorted(overrides))}")
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+        from baselines.random_agent import RandomAgent
+
+        return RandomAgent(observation_space, action_space, seed=seed)
+
+    return make
+
+
+def _sb3(name: str, **overrides: Any) -> Factory:
+    from baselines.hyperparams import make_params
+
+    params = make_params(name, **overrides)  # check the names now, not at the first call
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+        from baselines.sb3_agents import DQNAgent, PPOAgent
+
+        cls = DQNAgent if name == "dqn" else PPOAgent
+        return cls(observation_space, action_space, seed=seed, params=params)
+
+    return make
+
+
+def _dynaq(**overrides: Any) -> Factory:
+    from baselines.hyperparams import make_params
+
+    params = make_params("dynaq", **overrides)
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+        from baselines.dynaq import DynaQAgent
+
+        return DynaQAgent(observation_space, action_space, seed=seed, params=params)
+
+    return make
+
+
+def agent_factory(name: str, **overrides: Any) -> Factory:
+    """A factory ``factory(observation_space, action_space, seed) -> agent`` for the agent ``name``.
+
+    Args:
+        name: ``hippo``, ``random``, ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
+            or ``module:Class`` for any class following the Agent protocol (built as
+            ``Class(observation_space, action_space, seed=seed, **overrides)``).
+        **overrides: Parameters to change: fields of ``hippo_agent.AgentConfig`` for ``hippo``, of
+            :mod:`baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
+
+    Raises:
+        ValueError: An unknown name (the message lists the allowed ones) or parameter.
+    """
+    if not isinstance(name, str):
+        raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")  # noqa: TRY004
+    if name == "hippo":
+        return _hippo(**overrides)
+    if name == "random":
+        return _random(**overrides)
+    if name in ("dqn", "ppo"):
+        return _sb3(name, **overrides)
+    if name == "dynaq":
+        return _dynaq(**overrides)
+    if ":" in name:
+        cls = load_agent_class(name)
+
+        def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+            return cls(observation_space, action_space, seed=seed, **overrides)
+
+        return make
+    hint = " (dense reward is an env setting: reward_type='dense', not an agent)" if name.endswith("-dense") else ""
+    raise ValueError(f"agent {name!r} is unknown{hint}; choose one of {', '.join(AGENT_NAMES)}, or module:Class for your own")
+
+
+__all__ = ["AGENT_NAMES", "PRIVILEGED", "agent_factory"]
