@@ -11,7 +11,6 @@ the memory of the place->place tensor is read off the agent.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import datetime
 import json
@@ -24,7 +23,7 @@ import gymnasium as gym
 import numpy as np
 
 import hippo_env
-from benchmarks.machine import REPO, command_line, load_average, machine_info
+from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from hippo_agent import AgentConfig, HippocampalAgent
 
 
@@ -48,17 +47,7 @@ class Args:
     """where the JSON goes (relative to the repository root unless absolute)"""
 
 
-def parse_args() -> Args:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    for f in dataclasses.fields(Args):
-        if isinstance(f.default, tuple):
-            parser.add_argument(f"--{f.name.replace('_', '-')}", nargs="+", type=int, default=f.default)
-        else:
-            parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(f.default), default=f.default)
-    return Args(**{k: tuple(v) if isinstance(v, list) else v for k, v in vars(parser.parse_args()).items()})
-
-
-args = parse_args()
+args = parse_dataclass_args(Args, __doc__.splitlines()[0])
 load_at_start = load_average()
 print(f"hippomaze agent throughput: {args.steps} recorded steps x {args.repeats} repeats, {args.n_rays} rays")
 

@@ -6,8 +6,6 @@ python benchmarks/maze_pictures.py --mazes open maze1 --out /tmp/mazes.png
 
 from __future__ import annotations
 
-import argparse
-import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,6 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 import hippo_env
+from benchmarks.common import parse_dataclass_args
 from hippo_env.render import plot_maze
 
 REPO = Path(__file__).resolve().parent.parent
@@ -34,18 +33,7 @@ class Args:
     """where the PNG goes (relative to the repository root unless absolute)"""
 
 
-def parse_args() -> Args:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    for f in dataclasses.fields(Args):
-        default = f.default
-        if isinstance(default, tuple):
-            parser.add_argument(f"--{f.name.replace('_', '-')}", nargs="+", type=type(default[0]), default=default)
-        else:
-            parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(default), default=default)
-    return Args(**{k: tuple(v) if isinstance(v, list) else v for k, v in vars(parser.parse_args()).items()})
-
-
-args = parse_args()
+args = parse_dataclass_args(Args, __doc__.splitlines()[0])
 fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
 for ax, maze in zip(axes[0], args.mazes):
     plot_maze(maze, ax=ax)

@@ -1,13 +1,18 @@
-"""What a benchmark record says about the machine it ran on (a shared machine skews wall-clock rates)."""
+"""What the benchmark scripts share: their command line from a dataclass, and what a record says
+about the machine it ran on (a shared machine skews wall-clock rates)."""
 
 from __future__ import annotations
 
+import argparse
+import dataclasses
 import os
 import platform
 import shlex
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
+
+ArgsT = TypeVar("ArgsT")
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -42,3 +47,21 @@ def command_line() -> str:
     script = Path(sys.argv[0])
     shown = os.path.relpath(script, REPO) if script.is_absolute() else sys.argv[0]
     return shlex.join(["python", shown, *sys.argv[1:]])
+
+
+def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None) -> ArgsT:
+    """A command line with one ``--flag`` per field of the dataclass ``cls`` (CleanRL style).
+
+    Tuples take several values; booleans get ``--flag/--no-flag``.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    for f in dataclasses.fields(cls):
+        default, flag = f.default, f"--{f.name.replace('_', '-')}"
+        if isinstance(default, bool):
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=default)
+        elif isinstance(default, tuple):
+            parser.add_argument(flag, nargs="+", type=type(default[0]) if default else str, default=default)
+        else:
+            parser.add_argument(flag, type=type(default), default=default)
+    values = vars(parser.parse_args(argv))
+    return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
