@@ -477,7 +477,7 @@ class HippocampalAgent:
             np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "HippocampalAgent":
+    def load(cls, path: str | os.PathLike) -> HippocampalAgent:
         """Read an agent written by :meth:`save`; a corrupt, truncated or foreign file raises
         ``ValueError``."""
         import gymnasium as gym

@@ -267,7 +267,7 @@ class AgentConfig:
         return dataclasses.asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> "AgentConfig":
+    def from_dict(cls, data: dict[str, Any]) -> AgentConfig:
         """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
         if not isinstance(data, dict):
             raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
@@ -279,6 +279,6 @@ class AgentConfig:
             )
         return cls(**data)
 
-    def replace(self, **changes: Any) -> "AgentConfig":
+    def replace(self, **changes: Any) -> AgentConfig:
         """A copy with some fields changed (validated like the original)."""
         return dataclasses.replace(self, **changes)

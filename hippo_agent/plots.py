@@ -14,11 +14,12 @@ never sees them)::
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
-__all__ = ["grid_positions", "plot_place_field", "plot_reward_map", "plot_trajectories", "draw_maze"]
+__all__ = ["draw_maze", "grid_positions", "plot_place_field", "plot_reward_map", "plot_trajectories"]
 
 
 def _axes(ax: Any = None, figsize: tuple[float, float] = (5.0, 5.0)) -> tuple[Any, Any]:

@@ -13,7 +13,7 @@ from gymnasium.envs.registration import WrapperSpec, register, registry
 from hippo_env.env import HippoMazeEnv
 from hippo_env.maze import BUILTIN_MAZES, MazeSpec
 
-__all__ = ["HippoMazeEnv", "MazeSpec", "BUILTIN_MAZES"]
+__all__ = ["BUILTIN_MAZES", "HippoMazeEnv", "MazeSpec"]
 __version__ = "0.1.0"
 
 if "HippoMaze-v0" not in registry:

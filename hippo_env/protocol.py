@@ -315,4 +315,4 @@ def _json_safe(record: dict[str, Any]) -> dict[str, Any]:
     return {k: (_nan_to_none(v) if isinstance(v, float) else v) for k, v in record.items()}
 
 
-__all__ = ["Agent", "DMTPResult", "Episode", "run_dmtp", "load_agent_class"]
+__all__ = ["Agent", "DMTPResult", "Episode", "load_agent_class", "run_dmtp"]

@@ -61,8 +61,7 @@ def _clearance(x: float, y: float, segments: np.ndarray) -> float:
         t = ((x - ax) * ex + (y - ay) * ey) / length2 if length2 > 0.0 else 0.0
         t = min(1.0, max(0.0, t))
         d = math.hypot(x - ax - t * ex, y - ay - t * ey)
-        if d < best:
-            best = d
+        best = min(best, d)
     return best
 
 

@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
-from hippo_agent import AgentConfig, HippocampalAgent
-from hippo_agent import plots
+from hippo_agent import AgentConfig, HippocampalAgent, plots
 
 SMALL = AgentConfig(n_place=300, dry_run_steps=1500)
 
