@@ -281,7 +281,7 @@ def run_dmtp(
             if on_run_end is not None:
                 on_run_end(trial, run, agent, env)
             if bar is not None:
-                bar.set_postfix(trial=trial, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
+                bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
                 bar.update(1)
         result.paths.append(trial_paths)
     result.env_steps_total = prepared_steps + counted.steps
