@@ -103,7 +103,11 @@ class _SpacesEnv(gym.Env):
 
 
 class _OwnRandomState:
-    """Swap the global ``random`` / NumPy / torch generator states for an agent's private ones."""
+    """Swap the global ``random`` / NumPy / torch generator states for an agent's private ones.
+
+    SB3 draws from the global generators (replay sampling, exploration), so each agent keeps its
+    own seeded copies and swaps them in only while SB3 runs; the caller's states are restored.
+    """
 
     def __init__(self, torch_module: Any, seed: int) -> None:
         self.torch = torch_module
