@@ -72,8 +72,9 @@ class RobotWorld:
         shape.friction = 0.0
         shape.elasticity = 0.0
         space.add(body, shape)
-        self.space, self.body = space, body
+        self.space, self.body, self.shape = space, body, shape
         self.sim_time = 0.0
+        self._last_dt = math.inf
 
     @property
     def position(self) -> tuple[float, float]:
@@ -115,7 +116,7 @@ class RobotWorld:
             # No wall within reach: one physics step integrates the whole control step.
             body.velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
             body.angular_velocity = spin
-            self.space.step(CONTROL_DT)
+            self._step(CONTROL_DT)
         else:
             self._drive_near_walls(speed, spin)
         body.velocity = (0.0, 0.0)
@@ -137,6 +138,14 @@ class RobotWorld:
         """
         body, mass, moment = self.body, self.body.mass, self.body.moment
         dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
+        substeps = round(CONTROL_DT / dt)
+        if abs(substeps * dt - CONTROL_DT) > 1e-9:  # equal substeps: no sliver of a last one
+            dt = CONTROL_DT / math.ceil(CONTROL_DT / dt)
+        if dt > self._last_dt * (1 + 1e-9):
+            # pymunk would scale the contact impulses it cached in the last, shorter step by
+            # dt / last dt and kick the robot through the wall: forget them.
+            self.space.remove(self.shape)
+            self.space.add(self.shape)
         remaining = CONTROL_DT
         body.velocity = (0.0, 0.0)
         priming = True
@@ -145,7 +154,7 @@ class RobotWorld:
             velocity = body.velocity
             body.force = (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt)
             body.torque = moment * (spin - body.angular_velocity) / dt
-            self.space.step(dt)
+            self._step(dt)
             if not priming:
                 remaining -= dt
             priming = False
@@ -153,6 +162,10 @@ class RobotWorld:
                 dt = remaining
             else:
                 dt = min(dt, remaining)
+
+    def _step(self, dt: float) -> None:
+        self.space.step(dt)
+        self._last_dt = dt
 
 
 def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple[float, float]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import gymnasium as gym
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -150,6 +151,18 @@ def test_corner():
         assert env.maze.clearance(info["position"]) >= R - TOL
     assert info["collision"]
     np.testing.assert_allclose(info["position"], (5 - R, 5 - R), atol=0.02)
+
+
+def test_a_slower_wheel_command_at_a_wall_does_not_kick_the_robot_through_it():
+    # Found by the property below: a step against a wall whose substeps did not divide the control
+    # step ended on a sliver of a substep, and pymunk scaled the contact impulses cached in it by
+    # (next substep / sliver) at the next step: the robot left the arena by 25 m.
+    env = gym.make("HippoMaze-v0", maze="maze3", action_type="wheels", n_rays=16)
+    env.reset(seed=1613, options={"goal": None})
+    for left, right, repeat in [(0.0, 1.0, 6), (0.0, 0.533408522605896, 3)]:
+        for _ in range(repeat):
+            _, _, _, _, info = env.step(np.array([left, right], np.float32))
+            assert env.unwrapped.maze.clearance(info["position"]) >= R - TOL
 
 
 # ---------------------------------------------------------------------- properties
