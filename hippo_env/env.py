@@ -166,10 +166,11 @@ class HippoMazeEnv(gym.Env):
         # whether or not the goal moves: the same seed then gives the same start.
         candidate = self.maze.sample_free(self.np_random, GOAL_CLEARANCE)
         if "goal" in options:
-            goal = options["goal"]
-            self.goal = None if goal is None else self._check_goal(goal, "reset option 'goal'")
+            goal = None if options["goal"] is None else self._check_goal(options["goal"], "reset option 'goal'")
+            if goal is None or self.goal is None or not np.array_equal(goal, self.goal):
+                self._distance_field = None  # the same goal again (the DMTP runner's every run) keeps it
+            self.goal = goal
             self._goal_set = True
-            self._distance_field = None
         elif options.get("new_goal") or not self._goal_set:
             self.goal = candidate if (options.get("new_goal") or self.maze.goal is None) else np.asarray(self.maze.goal, float)
             self._goal_set = True

@@ -187,3 +187,14 @@ def test_dense_reward_rewards_progress():
     away = env.step(4)[1]
     assert toward > 0 > away
     assert toward == pytest.approx(0.1, abs=0.05)
+
+
+def test_dense_reward_follows_a_moved_goal_and_keeps_the_field_for_the_same_goal():
+    env = make("open", reward_type="dense")
+    env.reset(seed=0, options={"goal": [3.0, 0.0], "start": [0.0, 0.0], "heading": 0.0})
+    assert env.step(0)[1] > 0  # east, toward (3, 0)
+    field = env.unwrapped._distance_field
+    env.reset(options={"goal": [3.0, 0.0], "start": [0.0, 0.0]})  # the runner passes the goal on every run
+    assert env.unwrapped._distance_field is field
+    env.reset(options={"goal": [-3.0, 0.0], "start": [0.0, 0.0]})
+    assert env.step(0)[1] < 0 < env.step(4)[1]  # east is now away from the goal, west toward it
