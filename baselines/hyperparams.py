@@ -120,6 +120,13 @@ class PPOParams:
         ent_coef: Entropy bonus (zoo: 0.0).
         vf_coef: Value loss weight (SB3 default: 0.5).
         max_grad_norm: Gradient clipping (SB3 default: 0.5).
+        normalize_advantage: Scale each minibatch's advantages to unit variance (SB3 default: True).
+        zero_init_critic: Start the value head at zero weights and bias (SB3: orthogonal, gain 1).
+            Before the first reward every return is 0, and a randomly initialised critic's output
+            acts as a potential that the policy climbs: it drifts to one side of the arena and is
+            pinned against a wall long before a random walk would have found the goal (see the sweep).
+            A zero critic predicts those returns exactly, so the advantages are 0 and the policy
+            stays uniform until the goal is found.
         net_arch: Hidden layer sizes of the policy and value networks (SB3 default: [64, 64]).
         n_bins: Sectors the 720-ray scan is mean-pooled into (720 = no pooling).
         allocentric: Rotate the scan into the world frame with the compass heading.
@@ -138,6 +145,8 @@ class PPOParams:
     ent_coef: float = 0.0
     vf_coef: float = 0.5
     max_grad_norm: float = 0.5
+    normalize_advantage: bool = True
+    zero_init_critic: bool = True
     net_arch: tuple[int, ...] = (64, 64)
     n_bins: int = 90
     allocentric: bool = True
@@ -219,36 +228,53 @@ SWEEP: tuple[SweepPoint, ...] = (
     SweepPoint("dqn-zoo", "dqn", {"gradient_steps": 8}),
     SweepPoint("dqn-grad4", "dqn", {"gradient_steps": 4}),
     SweepPoint("dqn-grad4-egocentric", "dqn", {"gradient_steps": 4, "allocentric": False}, seeds=(100,)),
-    SweepPoint("ppo-zoo", "ppo", {"batch_size": 64}),
-    SweepPoint("ppo-batch256", "ppo", {"batch_size": 256}),
-    SweepPoint("ppo-ent0.01", "ppo", {"batch_size": 64, "ent_coef": 0.01}, seeds=(100,)),
+    SweepPoint("ppo-zoo", "ppo", {"batch_size": 64, "zero_init_critic": False}),
+    SweepPoint("ppo-batch256", "ppo", {"batch_size": 256, "zero_init_critic": False}),
+    SweepPoint("ppo-ent0.01", "ppo", {"batch_size": 64, "ent_coef": 0.01, "zero_init_critic": False}, seeds=(100,)),
+    SweepPoint("ppo-raw-advantage", "ppo", {"normalize_advantage": False, "zero_init_critic": False}),
+    SweepPoint(
+        "ppo-raw-advantage-ent0.01", "ppo", {"normalize_advantage": False, "ent_coef": 0.01, "zero_init_critic": False}, seeds=(100,)
+    ),
+    SweepPoint("ppo-zero-critic", "ppo", {"batch_size": 256, "zero_init_critic": True}),
+    SweepPoint("ppo-zero-critic-batch64", "ppo", {"batch_size": 64, "zero_init_critic": True}),
 )
 
 #: The sweep's measured outcome (benchmarks/results/sample_efficiency_sweep.json).
 SWEEP_OUTCOME = """
 Measured 2026-11-22 on open, sparse reward, 100,000 steps per seed (2 shared, loaded cores).
-No configuration reached the criterion (median indirectness <= 1 with >= 90 % success) within
-100,000 steps, so they are told apart by the last 50 runs (success rate / median indirectness):
+Steps to the criterion (median indirectness <= 1 with >= 90 % success over a window of 10 episodes;
+"-" = not within 100,000), then the last 50 runs (success rate / median indirectness):
 
-  point                  seeds     success      median indirectness   runs   seconds
-  dqn-zoo (16/8)         100, 101  0.79, 0.88   139, 58               19, 25  865, 862
-  dqn-grad4 (16/4)       100, 101  0.80, 0.75    70, 56               25, 24  507, 511
-  dqn-grad4-egocentric   100       0.79         104                   24      333
-  ppo-zoo (batch 64)     100, 101  0.00, 0.00   386, 415              10, 10  372, 257
-  ppo-batch256           100, 101  0.00, 0.00   400, 309              10, 10  161, 132
-  ppo-ent0.01            100       0.00         458                   10      137
+  point                        seeds     to criterion    success      median indirectness   runs
+  dqn-zoo (16/8)               100, 101  -, -            0.79, 0.88   139, 58               19, 25
+  dqn-grad4 (16/4)             100, 101  -, -            0.80, 0.75    70, 56               25, 24
+  dqn-grad4-egocentric         100       -               0.79         104                   24
+  ppo-zoo (batch 64)           100, 101  -, -            0.00, 0.00   386, 415              10, 10
+  ppo-batch256                 100, 101  -, -            0.00, 0.00   400, 309              10, 10
+  ppo-ent0.01                  100       -               0.00         458                   10
+  ppo-raw-advantage            100, 101  -, -            0.00, 0.00   441, 369              10, 10
+  ppo-raw-advantage-ent0.01    100       63,508          1.00         0.91                  723
+  ppo-zero-critic (batch 256)  100, 101  31,852, 45,852  1.00, 1.00   0.09, 0.09            2075, 1391
+  ppo-zero-critic-batch64      100, 101  30,706, -       1.00, 0.18   0.09, 207             2148, 11
 
 Outcome. DQN: the zoo's 8 gradient steps per 16 transitions and 4 per 16 (the zoo's CartPole /
 Acrobot ratio) are indistinguishable here; 4 costs 1.7x less compute, so 4 is the default. The
 allocentric scan is kept (no difference at 100k steps; it is the hippocampal model's own use of the
-compass). PPO: with the sparse reward no PPO configuration found the goal in a single run of
-10,000 steps (a uniformly random walk does in most runs): the policy drifts to a low-entropy
-wandering before any reward is seen; an entropy bonus of 0.01 did not prevent it. Batch 256 does
-as well as 64 for 2.3x less compute, and on the dense reward (open, seed 1, 40,000 steps) both become
-direct at ~12,000-14,000 steps (median indirectness of 10 runs 0.64 at 12,146 steps with 64,
-at 14,493 with 256); 256 is the default. The driver itself was checked against SB3's own
-``PPO.learn`` on the dense reward (open, seed 0, 40,000 steps: 890 runs, all successful, native;
-894, all successful, driven online).
+compass).
+
+PPO: with SB3's default (orthogonally initialised) critic, no configuration found the goal in a
+single run of 10,000 steps, although a uniformly random walk does in most runs. The cause: before
+the first reward every return is 0, but the random critic's output differs from place to place,
+so the advantages push the policy up that random "potential" (Adam scales even tiny gradients to
+full steps, so turning advantage normalisation off does not help on its own). The action
+distribution drifts to one side within ~5,000 steps and the robot is pinned against a wall. An
+entropy bonus of 0.01 on top of raw advantages slows the drift enough for one seed. Starting the
+value head at zero removes the cause: the critic then predicts the zero returns exactly, the policy
+stays uniform until the goal is found, and both seeds become direct (batch 256 on both seeds, batch
+64 on one), so ``zero_init_critic=True`` with batch 256 is the default. On the dense reward (open,
+seed 1, 40,000 steps, SB3's critic) PPO became direct at ~12,000-14,000 steps with either batch
+size. The driver itself was checked against SB3's own ``PPO.learn`` on the dense reward (open,
+seed 0, 40,000 steps: 890 runs, all successful, native; 894, all successful, driven online).
 """
 
 __all__ = ["PARAMS", "SWEEP", "SWEEP_OUTCOME", "DQNParams", "DynaQParams", "PPOParams", "SweepPoint", "make_params", "params_dict"]

@@ -362,12 +362,17 @@ class PPOAgent(_SB3Agent):
                 ent_coef=params.ent_coef,
                 vf_coef=params.vf_coef,
                 max_grad_norm=params.max_grad_norm,
+                normalize_advantage=params.normalize_advantage,
                 policy_kwargs={"net_arch": list(params.net_arch)},
                 device="cpu",
                 verbose=0,
             )
         self.model.set_logger(_quiet_logger())
         self.policy = self.model.policy
+        if params.zero_init_critic:
+            with self.torch.no_grad():
+                self.policy.value_net.weight.zero_()
+                self.policy.value_net.bias.zero_()
         self.policy.set_training_mode(False)
         from stable_baselines3.common.distributions import CategoricalDistribution
 

@@ -13,15 +13,15 @@ same seed. A job is one (agent, maze, seed, reward type):
    agent is told (``start_trial``), as the hippocampal agent always is. At most ``--switch-budget``
    steps. An agent that never became direct has nothing to become direct *again* on: no switch day.
 
-Measuring. Steps are counted from the agent's creation, pre-exploration included. The performance
-"at x steps" is that of the episodes in progress at step x: each replicate (hippo: a day; learners:
-its one day) contributes the episode in progress at x and the ones after it, round-robin, until the
-pool holds ``--window`` episodes (10 hippo days give one episode each; a learner's single day gives
-10 consecutive episodes). A seed is *direct* at x when its pool has >= 90 % successes and median
-indirectness <= 1.0, and so have the episodes in progress at x on their own (for a learner: the
-current episode is a direct success); its *steps to criterion* are the first episode start at which
-it is. The
-headline is the median over seeds ("> budget" when fewer than half the seeds got there). Curves:
+Measuring. Steps are counted from the agent's creation, pre-exploration included; every agent is
+measured by episodes alike (a wandering run of thousands of steps counts once). A replicate (hippo:
+a day; learners: their one day) is *direct* from x on when its episode in progress at x and the
+``--window`` episodes from it on have >= 90 % successes and median indirectness <= 1.0, the one in
+progress being a direct success itself; its *steps to criterion* are the first episode start from
+which it is, and a seed's are the median over its replicates (hippo: its 10 days). The curves show,
+at x, each replicate's ``--window`` latest episodes (the one in progress and those before it: no
+looking past the run under way), pooled over the seed's replicates; no point once fewer than half
+of them are still running (the days left late are the slow ones). The headline is the median over seeds ("> budget" when fewer than half the seeds got there). Curves:
 IQM over seeds with 95 % bootstrap intervals (stratified over mazes for the "all mazes" panel),
 ``scipy.stats.bootstrap``, percentile method. Goal switch: the episodes and steps of the new day
 before the first episode that starts a direct window.
@@ -82,8 +82,8 @@ class Args:
     """seeds for the dense variant"""
     hippo_days: int = 10
     """fresh-agent DMTP days per seed for the hippocampal agent (replicates)"""
-    hippo_runs: int = 12
-    """runs per hippocampal day (run 1 explores; the rest show whether it is direct)"""
+    hippo_runs: int = 40
+    """runs per hippocampal day (run 1 explores; the rest show whether it stays direct)"""
     window: int = 10
     """episodes pooled per seed for success rate and median indirectness"""
     max_episode_steps: int = 0
@@ -345,8 +345,7 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
         "privileged": job.agent in PRIVILEGED,
         "learn": _columns(learn, [m.prepare_steps for m in made]),
     }
-    config = getattr(made[-1].agent, "config", None)
-    record["agent_config"] = config() if callable(config) else None
+    record["agent_config"] = agent_config(made[-1].agent)
     record["learn"]["direct_at"] = steps_to_criterion(replicates(record["learn"])[-1:], window=SWITCH_WINDOW)
     if job.switch_budget > 0 and learn.episodes and record["learn"]["direct_at"] is not None:
         agent = made[-1]
@@ -360,6 +359,30 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
         record["switch"]["old_goal"] = [float(v) for v in old_goal]
     record["seconds"] = time.perf_counter() - began
     return record
+
+
+def agent_config(agent: Any) -> dict[str, Any] | None:
+    """The parameters an agent ran with, as JSON data: its ``config()``, or its ``config.to_dict()``."""
+    config = getattr(agent, "config", None)
+    if callable(config):
+        config = config()
+    elif hasattr(config, "to_dict"):
+        config = config.to_dict()
+    return None if config is None else json.loads(json.dumps(config))
+
+
+def current_config(job: Job) -> dict[str, Any] | None:
+    """The parameters a job's agent would run with now (None for an agent without parameters)."""
+    overrides = dict(job.overrides)
+    if job.agent in ("dqn", "ppo", "dynaq"):
+        from baselines.hyperparams import make_params, params_dict
+
+        return json.loads(json.dumps(params_dict(make_params(job.agent, **overrides))))
+    if job.agent == "hippo":
+        from hippo_agent import AgentConfig
+
+        return json.loads(json.dumps(dataclasses.replace(AgentConfig(), **overrides).to_dict()))
+    return None
 
 
 # --------------------------------------------------------------------------------------- job storage
@@ -390,7 +413,8 @@ def run_jobs(jobs: list[Job], args: Args, out: Path) -> dict[str, dict[str, Any]
     todo: list[Job] = []
     for job in jobs:
         record = load_record(job_path(out, job, args.sweep))
-        if record is not None and record.get("job") == job.spec():
+        # a record is reused only if it was made by the same job with today's defaults
+        if record is not None and record.get("job") == job.spec() and record.get("agent_config") == current_config(job):
             records[job.name] = record
         else:
             todo.append(job)
@@ -502,71 +526,74 @@ MIN_POOL = 5  # fewer pooled episodes than this: no measurement (NaN)
 SWITCH_WINDOW = 10  # episodes: the window of "direct on the first goal" inside a job
 
 
-def pool_at(reps: list[Replicate], x: float, window: int) -> tuple[np.ndarray, np.ndarray, int]:
-    """The episodes in progress at step x and after it, round-robin over replicates, >= ``window`` if there are.
+def recent_at(reps: list[Replicate], x: float, window: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """Each replicate's ``window`` latest episodes at step x: the one in progress (or next) and those before it.
 
-    Returns successes, indirectness, and how many replicates had an episode in progress.
+    A learning curve that looks no further than the run under way. Every replicate is measured
+    alike, by episodes: a learner's one day and each hippocampal day give the same statistic, and
+    a wandering run of thousands of steps counts once. A replicate whose runs are all done keeps
+    its last window. Returns successes, indirectness, and how many replicates are still running at x.
     """
-    firsts = []
-    for r in reps:
-        i = int(np.searchsorted(r.end, x, side="right"))  # the first episode that ends after x
-        if i < r.end.size:
-            firsts.append((r, i))
-    if not firsts:
-        return np.zeros(0, bool), np.zeros(0), 0
-    per = math.ceil(window / len(firsts))
-    ok = np.concatenate([r.success[i : i + per] for r, i in firsts])
-    ind = np.concatenate([r.indirectness[i : i + per] for r, i in firsts])
-    return ok, ind, len(firsts)
-
-
-def head_at(reps: list[Replicate], x: float) -> tuple[np.ndarray, np.ndarray]:
-    """Only the episodes in progress at step x, one per replicate that has one."""
-    heads = [(r, int(np.searchsorted(r.end, x, side="right"))) for r in reps]
-    heads = [(r, i) for r, i in heads if i < r.end.size]
-    return np.array([r.success[i] for r, i in heads], bool), np.array([r.indirectness[i] for r, i in heads], float)
+    heads = [(r, int(np.searchsorted(r.end, x, side="right"))) for r in reps]  # the episode in progress at x
+    running = sum(i < r.end.size for r, i in heads)
+    heads = [(r, min(i, r.end.size - 1)) for r, i in heads if r.end.size]
+    if not heads:
+        return np.zeros(0, bool), np.zeros(0), running
+    ok = np.concatenate([r.success[max(i + 1 - window, 0) : i + 1] for r, i in heads])
+    ind = np.concatenate([r.indirectness[max(i + 1 - window, 0) : i + 1] for r, i in heads])
+    return ok, ind, running
 
 
 def metrics_at(reps: list[Replicate], x: float, window: int) -> tuple[float, float]:
-    """(success rate, median indirectness) of the pool at x; NaN when fewer than MIN_POOL episodes."""
-    ok, ind, _ = pool_at(reps, x, window)
-    if ok.size < min(MIN_POOL, window):
+    """(success rate, median indirectness) of the latest episodes at x, the curves' point.
+
+    NaN when the pool holds fewer than MIN_POOL episodes, or fewer than half of the replicates are still
+    running: the days left late are the slow ones (wandering runs), and the curve would be theirs.
+    """
+    ok, ind, running = recent_at(reps, x, window)
+    if ok.size < min(MIN_POOL, window) or 2 * running < len(reps):
         return math.nan, math.nan
     return float(ok.mean()), float(np.median(ind))
 
 
-def direct_at(reps: list[Replicate], x: float, window: int) -> bool:
-    """Direct at x: the pool meets the criterion, and so do the episodes in progress at x on their own.
+def direct_at(rep: Replicate, x: float, window: int) -> bool:
+    """One replicate is direct from x on: its episode in progress at x is a direct success, and so are the
+    ``window`` episodes from it on (>= 90 % successes, median indirectness <= 1).
 
-    The second half matters when there are few replicates: a learner's pool looks 10 episodes ahead,
-    and the episode in progress must itself be a direct success (a hippocampal day's exploring
-    first run is not hidden by the direct runs after it).
+    Looking at the episode in progress keeps the window that looks ahead from hiding it (a
+    hippocampal day's exploring first run is not hidden by the direct runs after it).
     """
-    s, i = metrics_at(reps, x, window)
-    if not (math.isfinite(s) and direct(s, i)):
+    head = int(np.searchsorted(rep.end, x, side="right"))
+    ok, ind = rep.success[head : head + window], rep.indirectness[head : head + window]
+    if ok.size < min(MIN_POOL, window):
         return False
-    ok, ind = head_at(reps, x)
-    return bool(ok.size) and direct(float(ok.mean()), float(np.median(ind)))
+    return direct(float(ok.mean()), float(np.median(ind))) and direct(float(ok[0]), float(ind[0]))
 
 
 def direct(success: float, indirectness: float) -> bool:
     return success >= 0.9 and indirectness <= 1.0
 
 
-def steps_to_criterion(reps: list[Replicate], window: int) -> float | None:
-    """The first episode start (steps since creation) at which the seed is direct; None if never."""
-    candidates = np.unique(np.concatenate([[0.0]] + [r.start for r in reps]))
-    for x in candidates:
-        if direct_at(reps, x, window):
+def replicate_steps_to_criterion(rep: Replicate, window: int) -> float | None:
+    """The first episode start (steps since the agent's creation) at which the replicate is direct; None if never."""
+    for x in rep.start:
+        if direct_at(rep, x, window):
             return float(x)
     return None
+
+
+def steps_to_criterion(reps: list[Replicate], window: int) -> float | None:
+    """A seed's steps to criterion: the median over its replicates (hippo: its days), None if that is never."""
+    steps = [replicate_steps_to_criterion(r, window) for r in reps]
+    median = float(np.median([math.inf if s is None else s for s in steps]))
+    return median if math.isfinite(median) else None
 
 
 def switch_cost(phase: dict[str, Any], window: int) -> tuple[int | None, int | None]:
     """(episodes, steps) of the switch day before it is direct again; (None, None) if it never is."""
     (rep,) = replicates(phase)
     for i in range(rep.end.size):
-        if direct_at([rep], rep.start[i], window):
+        if direct_at(rep, rep.start[i], window):
             return i, int(rep.start[i])
     return None, None
 
@@ -741,7 +768,10 @@ def headline_markdown(summary: dict[str, Any]) -> str:
             steps = fmt_steps(cell["median_steps"], cell["budget"])
             cells.append(f"{steps} ({cell['reached']}/{cell['seeds']})")
             r = cell["ratio_to_hippo"]
-            cells.append("1" if row["agent"] == "hippo" else ("" if r is None else (f"{r}" if isinstance(r, str) else f"{r:g}")))
+            if row["agent"] == "hippo":
+                cells.append("1" if cell["median_steps"] is not None else "n/a")
+            else:
+                cells.append("n/a" if r is None else (r if isinstance(r, str) else f"{r:g}"))
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -809,7 +839,7 @@ def plot_curves(summary: dict[str, Any], path: Path) -> None:
                 ax.set_xlabel("environment steps (pre-exploration included)")
             ax.grid(alpha=0.3, which="both", lw=0.4)
     axes[0, 0].legend(fontsize=8, loc="upper left")
-    fig.suptitle(f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed: the {summary['args']['window']} episodes in progress at x)", fontsize=9)
+    fig.suptitle(f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {summary['args']['window'] - 1} before it; hippo: 10 fresh-agent days per seed)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -178,6 +178,23 @@ class TestSB3Agents:
             agent_factory(name, **tiny)(env.observation_space, env.action_space, 0)
 
 
+@pytest.mark.parametrize("zero_critic", [True, False])
+def test_ppo_policy_moves_before_any_reward_only_with_a_random_critic(zero_critic):
+    # No goal, so every reward is 0. A zero critic predicts that exactly: zero advantages, no policy update.
+    env = gym.make("HippoMaze-v0")
+    agent = agent_factory("ppo", **TINY_PPO, zero_init_critic=zero_critic)(env.observation_space, env.action_space, 0)
+    obs, info = env.reset(seed=0, options={"goal": None})
+    x = agent.features(obs)
+    logits_before = agent.pi_net(x).copy()
+    agent.reset(obs, info)
+    for _ in range(2 * TINY_PPO["n_steps"]):
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+    assert agent.model._n_updates > 0
+    assert np.array_equal(agent.pi_net(x), logits_before) == zero_critic
+
+
 def test_dqn_truncation_is_not_terminal(env):
     agent = agent_factory("dqn", **TINY_DQN)(env.observation_space, env.action_space, 0)
     obs, info = env.reset(seed=0)

@@ -101,6 +101,15 @@ class TestQuickRun:
         se.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
         assert {p: p.stat().st_mtime_ns for p in files} == before
 
+    def test_a_record_made_with_other_defaults_is_rerun(self, quick):
+        out, _ = quick
+        path = out / "sample_efficiency" / "dqn__open__sparse__seed0.json.gz"
+        original = se.load_record(path)
+        stale = {**original, "agent_config": {**original["agent_config"], "gamma": 0.5}}  # as if a default had changed since
+        se.save_record(path, stale)
+        se.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
+        assert _strip(se.load_record(path)) == _strip(original)
+
 
 class PreparingAgent(RandomAgent):
     """A random agent with a 123-step pre-exploration."""
@@ -171,18 +180,42 @@ class TestAnalysis:
         # already has 9/10 successes and a median of 0.2, but the run in progress is a failure:
         # direct from the first direct run on.
         rep = _rep([1000, 1000, 1000] + [40] * 20, [False] * 3 + [True] * 20, [50.0] * 3 + [0.2] * 20)
-        assert se.metrics_at([rep], 2000, window=10) == (0.9, 0.2)
-        assert not se.direct_at([rep], 2000, window=10)
+        assert not se.direct_at(rep, 2000, window=10)
+        assert se.direct_at(rep, 3000, window=10)
         assert se.steps_to_criterion([rep], window=10) == 3000
+
+    def test_the_curve_looks_no_further_than_the_run_in_progress(self):
+        # the same learner: at 3000 steps its 4th run is under way (too few runs for a point); during
+        # its 10th run, its latest 10 are the 3 failures and 7 direct successes
+        rep = _rep([1000, 1000, 1000] + [40] * 20, [False] * 3 + [True] * 20, [50.0] * 3 + [0.2] * 20)
+        assert all(math.isnan(v) for v in se.metrics_at([rep], 3000, window=10))
+        assert se.metrics_at([rep], 3000 + 6 * 40 + 1, window=10) == (0.7, 0.2)
 
     def test_the_run_in_progress_counts(self):
         # hippo-like days: a dry run, one exploring run, then direct runs. A day is not direct before its
-        # run 2; the pooled median is direct once 6 of the 10 days are past run 1 (day 5's run 1 ends at 3000).
+        # run 2 starts (day d: at 2500 + 100 d); the seed's figure is the median over its 10 days.
         days = [_rep([2000 + 100 * d] + [40] * 40, [True] * 41, [20.0] + [0.1] * 40, offset=500) for d in range(10)]
-        assert se.steps_to_criterion(days, window=10) == 500 + 2000 + 500
-        ok, ind, n = se.pool_at(days, 0, window=10)
-        assert n == 10
-        assert ok.size == 10 and np.all(ind == 20.0)
+        assert [se.replicate_steps_to_criterion(d, window=10) for d in days] == [2500.0 + 100 * d for d in range(10)]
+        assert se.steps_to_criterion(days, window=10) == 2950.0
+        same = [days[0]] * 10  # run 1 ends at 2500, then a run every 40 steps
+        ok, ind, running = se.recent_at(same, 1000, window=10)  # the dry run or run 1 under way
+        assert running == 10 and ok.size == 10 and np.all(ind == 20.0)
+        ok, ind, _ = se.recent_at(same, 2500 + 4 * 40, window=10)
+        assert ok.size == 60 and np.sum(ind == 20.0) == 10  # run 1, 4 more done, the 6th in progress
+        ok, ind, _ = se.recent_at(same, 2500 + 20 * 40, window=10)
+        assert ok.size == 100 and np.all(ind == 0.1)  # run 1 has left every day's window of 10
+
+    def test_seeds_whose_days_are_mostly_never_direct_never_are(self):
+        direct_day = _rep([1000] + [40] * 20, [True] * 21, [20.0] + [0.1] * 20)
+        wandering_day = _rep([1000] * 21, [True] * 21, [20.0] * 21)
+        assert se.steps_to_criterion([direct_day] * 2 + [wandering_day] * 3, window=10) is None
+        assert se.steps_to_criterion([direct_day] * 3 + [wandering_day] * 2, window=10) == 1000.0
+
+    def test_no_measurement_once_most_replicates_have_ended(self):
+        # 4 fast days end at 1000 steps, 1 slow day runs on: past 1000 only the slow day is left
+        days = [_rep([500, 500], [True, True], [0.5, 0.5]) for _ in range(4)] + [_rep([500] + [2000] * 5, [True] * 6, [0.5] + [30.0] * 5)]
+        assert se.metrics_at(days, 600, window=1) == (1.0, 0.5)
+        assert all(math.isnan(v) for v in se.metrics_at(days, 1500, window=1))
 
     def test_never_direct(self):
         rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
@@ -191,6 +224,17 @@ class TestAnalysis:
         assert cell["median_steps"] is None and cell["reached"] == 1
         assert se.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
         assert se.ratio(cell, {"median_steps": 6000.0}) == "> 50"
+
+    def test_no_ratio_when_the_hippo_is_never_direct(self):
+        never = {"median_steps": None, "reached": 1, "seeds": 5, "budget": None, "ratio_to_hippo": None}
+        reached = {"median_steps": 1000.0, "reached": 3, "seeds": 5, "budget": 300_000, "ratio_to_hippo": None}
+        summary = {
+            "mazes": ["maze1"],
+            "headline": [{"agent": "hippo", "privileged": False, "maze1": never}, {"agent": "dqn", "privileged": False, "maze1": reached}],
+        }
+        table = se.headline_markdown(summary).splitlines()
+        assert table[2] == "| hippo | never (1/5) | n/a |"
+        assert table[3] == "| dqn | 1,000 (3/5) | n/a |"
 
     def test_median_over_seeds_counts_the_censored_ones(self):
         cell = se.summarize_steps([1000.0, None, 3000.0], budget=10_000)
