@@ -15,14 +15,15 @@ same seed. A job is one (agent, maze, seed, reward type):
 
 Measuring. Steps are counted from the agent's creation, pre-exploration included; every agent is
 measured by episodes alike (a wandering run of thousands of steps counts once). A replicate (hippo:
-a day; learners: their one day) is *direct* from x on when its episode in progress at x and the
-``--window`` episodes from it on have >= 90 % successes and median indirectness <= 1.0, the one in
+a day; learners: their one day) is *direct* from x on when the ``--window`` episodes from its
+episode in progress at x on have >= 90 % successes and median indirectness <= 1.0, the one in
 progress being a direct success itself; its *steps to criterion* are the first episode start from
 which it is, and a seed's are the median over its replicates (hippo: its 10 days). The curves show,
 at x, each replicate's ``--window`` latest episodes (the one in progress and those before it: no
 looking past the run under way), pooled over the seed's replicates; no point once fewer than half
-of them are still running (the days left late are the slow ones). The headline is the median over seeds ("> budget" when fewer than half the seeds got there). Curves:
-IQM over seeds with 95 % bootstrap intervals (stratified over mazes for the "all mazes" panel),
+of them are still running (the days left late are the slow ones). The headline is the median over
+seeds ("> budget" when fewer than half the seeds got there); the curves, the IQM over seeds with
+95 % bootstrap intervals (stratified over mazes for the "all mazes" panel),
 ``scipy.stats.bootstrap``, percentile method. Goal switch: the episodes and steps of the new day
 before the first episode that starts a direct window.
 
@@ -839,7 +840,7 @@ def plot_curves(summary: dict[str, Any], path: Path) -> None:
                 ax.set_xlabel("environment steps (pre-exploration included)")
             ax.grid(alpha=0.3, which="both", lw=0.4)
     axes[0, 0].legend(fontsize=8, loc="upper left")
-    fig.suptitle(f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {summary['args']['window'] - 1} before it; hippo: 10 fresh-agent days per seed)", fontsize=9)
+    fig.suptitle(f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {summary['args']['window'] - 1} before it; hippo: {summary['args']['hippo_days']} fresh-agent days per seed)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
