@@ -58,7 +58,19 @@ from typing import Any
 
 
 @dataclass(frozen=True)
-class DQNParams:
+class _OnlineParams:
+    """The fields DQN and PPO share (each documents them for itself)."""
+
+    net_arch: tuple[int, ...] = (64, 64)
+    n_bins: int = 90
+    allocentric: bool = True
+    n_timesteps: int = 300_000
+    reset_on_new_goal: bool = True
+    switch_timesteps: int = 100_000
+
+
+@dataclass(frozen=True)
+class DQNParams(_OnlineParams):
     """DQN (stable-baselines3 ``DQN`` with ``MlpPolicy``) driven online; see the module doc for sources.
 
     Args:
@@ -97,16 +109,10 @@ class DQNParams:
     exploration_initial_eps: float = 1.0
     exploration_final_eps: float = 0.07
     max_grad_norm: float = 10.0
-    net_arch: tuple[int, ...] = (64, 64)
-    n_bins: int = 90
-    allocentric: bool = True
-    n_timesteps: int = 300_000
-    reset_on_new_goal: bool = True
-    switch_timesteps: int = 100_000
 
 
 @dataclass(frozen=True)
-class PPOParams:
+class PPOParams(_OnlineParams):
     """PPO (stable-baselines3 ``PPO`` with ``MlpPolicy``) driven online; see the module doc for sources.
 
     Args:
@@ -147,12 +153,6 @@ class PPOParams:
     max_grad_norm: float = 0.5
     normalize_advantage: bool = True
     zero_init_critic: bool = True
-    net_arch: tuple[int, ...] = (64, 64)
-    n_bins: int = 90
-    allocentric: bool = True
-    n_timesteps: int = 300_000
-    reset_on_new_goal: bool = True
-    switch_timesteps: int = 100_000
 
 
 @dataclass(frozen=True)

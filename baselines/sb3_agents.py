@@ -111,12 +111,12 @@ class _OwnRandomState:
 
     def __init__(self, torch_module: Any, seed: int) -> None:
         self.torch = torch_module
-        saved = self._get()
-        random.seed(seed)
-        np.random.seed(seed % 2**32)
-        torch_module.manual_seed(seed)
-        self.state = self._get()
-        self._set(saved)
+        # The states the global generators would have if seeded with ``seed``, made without touching them.
+        self.state = (
+            random.Random(seed).getstate(),
+            np.random.RandomState(seed % 2**32).get_state(),
+            torch_module.Generator().manual_seed(seed).get_state(),
+        )
         self._outer: tuple | None = None
 
     def _get(self) -> tuple:
@@ -203,7 +203,8 @@ class _SB3Agent:
 
     algo = ""
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None, params: Any) -> None:
+    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None, params: Any, overrides: dict[str, Any]) -> None:
+        params = make_params(self.algo, **overrides) if params is None else make_params(self.algo, **{**params_dict(params), **overrides})
         torch, _ = _import_sb3()
         torch.set_num_threads(1)
         self.torch = torch
@@ -257,8 +258,8 @@ class DQNAgent(_SB3Agent):
     algo = "dqn"
 
     def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: DQNParams | None = None, **overrides: Any) -> None:
-        params = make_params("dqn", **overrides) if params is None else (make_params("dqn", **{**params_dict(params), **overrides}))
-        super().__init__(observation_space, action_space, seed, params)
+        super().__init__(observation_space, action_space, seed, params, overrides)
+        params = self.params
         from stable_baselines3 import DQN
 
         with self.random_state:
@@ -344,8 +345,8 @@ class PPOAgent(_SB3Agent):
     algo = "ppo"
 
     def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: PPOParams | None = None, **overrides: Any) -> None:
-        params = make_params("ppo", **overrides) if params is None else (make_params("ppo", **{**params_dict(params), **overrides}))
-        super().__init__(observation_space, action_space, seed, params)
+        super().__init__(observation_space, action_space, seed, params, overrides)
+        params = self.params
         from stable_baselines3 import PPO
 
         with self.random_state:

@@ -40,7 +40,6 @@ command is run again (resumable). Then the summary ``<out>/sample_efficiency.jso
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import datetime
 import gzip
@@ -56,6 +55,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from benchmarks.common import parse_dataclass_args
 
 REPO = Path(__file__).resolve().parent.parent
 LEARNERS = ("random", "dqn", "ppo", "dynaq")  # one long day with a step budget
@@ -110,20 +111,9 @@ class Args:
 
 
 def parse_args(argv: list[str] | None = None) -> Args:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    for f in dataclasses.fields(Args):
-        default = f.default
-        flag = f"--{f.name.replace('_', '-')}"
-        if isinstance(default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=default)
-        elif isinstance(default, tuple):
-            parser.add_argument(flag, nargs="+", type=str, default=default)
-        else:
-            parser.add_argument(flag, type=type(default), default=default)
-    ns = parser.parse_args(argv)
-    args = Args(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in vars(ns).items()})
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
     if args.engine not in ("local", "ray"):
-        parser.error(f"--engine must be local or ray, got {args.engine!r}")
+        raise SystemExit(f"--engine must be local or ray, got {args.engine!r}")
     return args
 
 
