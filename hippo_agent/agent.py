@@ -47,10 +47,12 @@ from typing import Any
 
 import numpy as np
 
-from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells
+from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
 from hippo_agent.config import AgentConfig
 
 __all__ = ["HippocampalAgent"]
+
+PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
 FORMAT_VERSION = 1
@@ -100,7 +102,12 @@ class HippocampalAgent:
             seed = int(seed)
         self.config = config
         self.seed = seed
-        self.n_rays, self.max_range = self._check_observation_space(observation_space)
+        self.n_rays, self.max_range, self.has_odometry = self._check_observation_space(observation_space)
+        if config.path_integration and not self.has_odometry:
+            raise ValueError(
+                "the observation space has no 'odometry', which AgentConfig.path_integration=True needs: make the env "
+                "with gym.make('HippoMaze-v0', odometry=True), or use AgentConfig.paper() (the model without path integration)"
+            )
         self.action_kind, self.n_actions = self._check_action_space(action_space)
         self.observation_space = observation_space
         self.action_space = action_space
@@ -140,6 +147,17 @@ class HippocampalAgent:
             eta_pp=c.eta_pp,
         )
         self.reward = RewardCells(c.n_place)
+        self.pi = PathIntegrator(
+            c.pi_particles,
+            self.rng,
+            motion_noise=c.pi_motion_noise,
+            min_motion_noise=c.pi_min_motion_noise,
+            vote_sigma=c.pi_vote_sigma,
+            anchor_radius=c.pi_anchor_radius,
+            anchor_weight=c.pi_anchor_weight,
+            redraw_fraction=c.pi_redraw_fraction,
+            lag=(1.0 - c.k) / c.k,
+        )
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -160,13 +178,15 @@ class HippocampalAgent:
 
     # ================================================================== spaces
     @staticmethod
-    def _check_observation_space(space: Any) -> tuple[int, float]:
+    def _check_observation_space(space: Any) -> tuple[int, float, bool]:
         import gymnasium as gym
 
         allowed = (
-            "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,)))"
+            "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), "
+            "optionally with odometry=Box(..., (2,))"
         )
-        if not isinstance(space, gym.spaces.Dict) or set(space.spaces) != {"ranges", "heading"}:
+        keys = set(space.spaces) if isinstance(space, gym.spaces.Dict) else set()
+        if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
         ranges, heading = space["ranges"], space["heading"]
         if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
@@ -184,7 +204,13 @@ class HippocampalAgent:
             raise ValueError(
                 f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0"
             )
-        return int(ranges.shape[0]), max_range
+        odometry = space.spaces.get("odometry")
+        if odometry is not None and (not isinstance(odometry, gym.spaces.Box) or odometry.shape != (2,)):
+            raise ValueError(
+                f"observation space 'odometry' {_describe_space(odometry)} is unsupported; "
+                "allowed: Box(low, high, (2,)) holding the (forward, left) displacement in metres"
+            )
+        return int(ranges.shape[0]), max_range, odometry is not None
 
     @staticmethod
     def _check_action_space(space: Any) -> tuple[str, int]:
@@ -239,7 +265,15 @@ class HippocampalAgent:
         ranges, heading_vec, heading = self._unpack(observation)
         b = self.bvc.update(ranges, heading)
         h = self.hd.update(heading_vec)
-        self.place.step(b, self.config.settle_steps)
+        if self.config.path_integration:
+            # put down somewhere: the boundary code alone votes where in the frame that is
+            self.pi.start_run()
+            self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
+            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS))
+            if self.pi.anchored:
+                self.place.settle(b, self._pi_input(), self.config.settle_steps)
+        else:
+            self.place.step(b, self.config.settle_steps)
         self.place.update_hd_trace(h)
         self.reward.reset_effective()
         self.heading = heading
@@ -283,13 +317,21 @@ class HippocampalAgent:
         self.heading = heading
         b = self.bvc.update(ranges, heading)
         h = self.hd.update(heading_vec)
-        self.place.step(b)
+        plastic = True
+        if c.path_integration:
+            self.pi.move(self._odometry_step(observation, heading_vec))
+            self.place.step_with_sense(b, self._corrected_pi_input)
+            plastic = self.pi.anchored  # no learning while the robot does not know where it is
+        else:
+            self.place.step(b)
         dry = self.phase == "dry"
-        if dry or c.learn_pb_in_trials:
+        if plastic and (dry or c.learn_pb_in_trials):
             self.place.learn_pb(b)
+        if plastic and c.path_integration:
+            self.place.learn_centres(self.pi.lagged_estimate(), c.pi_centre_max_mass)
         self.place.update_hd_trace(h)
-        learn_pp = not dry and (c.learn_pp_in_exploitation or self.last_decision == "explore")
-        if learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
+        learn_pp = (not dry or c.learn_pp_in_dry_run) and (c.learn_pp_in_exploitation or self.last_decision == "explore")
+        if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
             self.place.learn_pp()
         self.place.update_trace()
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
@@ -303,6 +345,24 @@ class HippocampalAgent:
         self.total_steps += 1
         if terminated or truncated:
             self.started = False
+
+    # ================================================================== path integration
+    def _odometry_step(self, observation: dict, heading_vec: np.ndarray) -> np.ndarray:
+        """The allocentric displacement: the encoders' (forward, left) rotated by the compass."""
+        forward, left = (float(x) for x in np.asarray(observation["odometry"], dtype=np.float64))
+        norm = math.hypot(float(heading_vec[0]), float(heading_vec[1])) or 1.0
+        c, s = float(heading_vec[0]) / norm, float(heading_vec[1]) / norm
+        return np.array([c * forward - s * left, s * forward + c * left])
+
+    def _pi_input(self) -> np.ndarray:
+        c = self.config
+        return self.place.pi_input(self.pi.estimate, c.pi_gain, c.pi_sigma, c.pi_threshold)
+
+    def _corrected_pi_input(self) -> np.ndarray | None:
+        """Correct the estimate with the BVC-only vote just computed; the path-integration drive
+        if anchored, else ``None`` (the boundary code alone drives the place cells)."""
+        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS))
+        return self._pi_input() if self.pi.anchored else None
 
     # ================================================================== learning
     def learn_reward(self) -> bool:
@@ -383,35 +443,50 @@ class HippocampalAgent:
         """The place cells' current rates (a copy)."""
         return self.place.v.copy()
 
-    def place_rates_at(self, observation: dict) -> np.ndarray:
-        """Steady-state place rates for an observation, from rest; the agent's state is untouched."""
+    def place_rates_at(self, observation: dict, pi_position: np.ndarray | None = None) -> np.ndarray:
+        """Steady-state place rates for an observation, from rest; the agent's state is untouched.
+
+        ``pi_position`` is the path-integrated position to assume there (frame coordinates);
+        ``None`` = the boundary code alone (also whenever path integration is off).
+        """
         ranges, _, heading = self._unpack(observation)
         b = self.bvc.rates_for(ranges, heading)
-        return self.place.rates_for(b, self.config.analysis_settle_steps)
+        extra = None
+        if self.config.path_integration and pi_position is not None:
+            c = self.config
+            extra = self.place.pi_input(np.asarray(pi_position, dtype=np.float64), c.pi_gain, c.pi_sigma, c.pi_threshold)
+        return self.place.rates_for(b, self.config.analysis_settle_steps, extra)
 
-    def value_at(self, observation: dict, goal: int = -1) -> float:
+    def value_at(self, observation: dict, goal: int = -1, pi_position: np.ndarray | None = None) -> float:
         """Reward cell ``goal``'s rate (eq. 9, undepressed weights) at an observation."""
         if self.reward.n == 0:
             return 0.0
-        v = self.place_rates_at(observation)
+        v = self.place_rates_at(observation, pi_position)
         return float(self.reward.value(v, self.reward.W_rp[goal]))
+
+    def frame_offset(self, env: Any) -> np.ndarray:
+        """Where the path-integration frame's origin lies in the world (analysis only, privileged):
+        the robot's true position minus the agent's current estimate."""
+        return np.asarray(env.unwrapped.world.position, dtype=np.float64) - self.pi.estimate
 
     def place_field_map(self, env: Any, positions: np.ndarray, heading: float = 0.0) -> np.ndarray:
         """Place rates at each position, shape ``(len(positions), n_place)``.
 
-        Uses ``env.unwrapped.observation_at(position, heading)`` (analysis only: the agent never
-        sees positions while acting). Positions the environment rejects (inside an obstacle) get
-        NaN rows.
+        Uses ``env.unwrapped.observation_at(position, heading)`` and, with path integration, the
+        position in the agent's frame as if it were localised there (:meth:`frame_offset`):
+        analysis only, the agent never sees positions while acting. Positions the environment
+        rejects (inside an obstacle) get NaN rows.
         """
         positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         out = np.full((len(positions), self.config.n_place), np.nan)
         base = env.unwrapped
+        offset = self.frame_offset(env) if self.config.path_integration else None
         for n, pos in enumerate(positions):
             try:
                 obs = base.observation_at(pos, heading)
             except ValueError:
                 continue
-            out[n] = self.place_rates_at(obs)
+            out[n] = self.place_rates_at(obs, None if offset is None else pos - offset)
         return out
 
     def reward_map(

@@ -188,10 +188,55 @@ class AgentConfig:
     learn_pb_in_trials: bool = True
     """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
     exploration; model-figures: learning stays on in runs 2-4)."""
+    learn_pp_in_dry_run: bool = True
+    """Let the place-place tensor learn (eq. 7) during the dry run too, not only in DMTP runs.
+    The paper's dry run has only BVC -> place learning on (``AgentConfig.paper()``); learning which
+    place follows which while exploring (latent learning) lets replay reach everything explored,
+    along the paths actually walked, instead of only run 1's path."""
     learn_pp_in_exploitation: bool = True
     """Keep ``W_pp`` learning (eq. 7) on in exploiting runs (model-figures: learning still on)."""
 
+    # ---------------------------------------------------------------- path integration (improved model)
+    path_integration: bool = True
+    """Integrate the wheel odometry into a position estimate that drives the place cells beside the
+    BVCs (``hippo_agent.cells.path_integration``). Needs the environment's odometry observation
+    (``gym.make("HippoMaze-v0", odometry=True)``). Not in the paper: ``AgentConfig.paper()`` turns
+    it off. Why: the boundary code alone gives distant places that look alike the same cells."""
+    pi_gain: float = 3.0
+    """Gain of the path-integration drive of a place cell with a centre:
+    ``pi_gain * (exp(-d^2 / 2 pi_sigma^2) - pi_threshold)``, ``d`` the distance from the estimate to
+    the cell's centre."""
+    pi_sigma: float = 0.4
+    """Width (m) of the path-integration drive around a cell's centre."""
+    pi_threshold: float = 0.7
+    """Offset of the path-integration drive: far from its centre a cell is inhibited by
+    ``pi_gain * pi_threshold``, so a look-alike place elsewhere no longer fires it."""
+    pi_centre_max_mass: float = 1000.0
+    """Cap of the rate a centre's running mean accumulates; later firing still moves it by at
+    least ``rate / pi_centre_max_mass``."""
+    pi_particles: int = 200
+    """Samples of the path integrator's belief."""
+    pi_motion_noise: float = 0.0
+    """Spread added to each sample per step, as a fraction of the distance moved."""
+    pi_min_motion_noise: float = 0.001
+    """Spread (m) added to each sample per step whatever the distance moved."""
+    pi_vote_sigma: float = 0.4
+    """Width (m) of an active cell's vote around its centre."""
+    pi_anchor_radius: float = 0.3
+    """Samples within this distance (m) of the heaviest one form the estimate's cluster."""
+    pi_anchor_weight: float = 0.8
+    """Share of the weight the cluster needs before a run's estimate counts as anchored; until then
+    the path-integration input and all plasticity are off."""
+    pi_redraw_fraction: float = 0.2
+    """While not anchored, this share of the samples is drawn afresh around the voted centres each step."""
+
     # ------------------------------------------------------------------------------------------
+    @classmethod
+    def paper(cls, **changes: Any) -> AgentConfig:
+        """The model as the paper describes it: no path integration (the compass and the
+        rangefinder only), a 5,000-step dry run; the rest as the defaults."""
+        return cls(**{"path_integration": False, "learn_pp_in_dry_run": False, "dry_run_steps": 5000, **changes})
+
     def __post_init__(self) -> None:
         def bad(name: str, allowed: str) -> ValueError:
             return ValueError(
@@ -257,7 +302,12 @@ class AgentConfig:
             raise bad("lambda_", "a value in [0, 1]")
         if not 0 <= self.trace_floor < 1:
             raise bad("trace_floor", "a value in [0, 1)")
-        non_negative("Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg")
+        non_negative("Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold",
+                     "pi_motion_noise", "pi_min_motion_noise")
+        positive("pi_sigma", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
+        if self.pi_particles < 2:
+            raise bad("pi_particles", "an integer >= 2")
+        unit_interval("pi_anchor_weight", "pi_redraw_fraction")
         if self.discrete_rounding not in ("stochastic", "nearest"):
             raise bad("discrete_rounding", "'stochastic' or 'nearest'")
 

@@ -21,6 +21,7 @@ RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
 GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
 START_CLEARANCE = physics.ROBOT_RADIUS + 0.05  # m from every wall, for random starts
 DENSE_GRID = 0.1  # m, cell of the distance field behind reward_type="dense"
+ODOMETRY_BOUND = 2 * physics.MAX_SPEED * physics.CONTROL_DT  # m, twice a full step: room for noise
 
 
 class HippoMazeEnv(gym.Env):
@@ -76,6 +77,9 @@ class HippoMazeEnv(gym.Env):
     - ``maze``: a built-in name (``"open"``, ``"maze1"`` ... ``"maze4"``), a path to a maze JSON
       file, or a :class:`~hippo_env.maze.MazeSpec`.
     - ``n_rays`` (720), ``max_range`` (10.0 m), ``range_noise`` (0.0 m): the rangefinder.
+    - ``heading_noise`` (0.0 rad): the compass.
+    - ``odometry`` (False): add the wheel-odometry observation; ``odometry_noise`` (0.0, a fraction
+      of the distance moved).
     - ``action_type``: ``"discrete"``, ``"heading"`` or ``"wheels"``.
     - ``reward_type``: ``"sparse"`` or ``"dense"``.
     - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
@@ -89,7 +93,8 @@ class HippoMazeEnv(gym.Env):
     part of the state, as DMTP requires.
 
     ## Version History
-    - v0: first version.
+    - v0: first version; the opt-in ``odometry`` observation and ``heading_noise`` were added later
+      (the default observation is unchanged).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
@@ -106,6 +111,9 @@ class HippoMazeEnv(gym.Env):
         min_start_distance: float = 1.0,
         render_mode: str | None = None,
         render_rays: bool = False,
+        odometry: bool = False,
+        odometry_noise: float = 0.0,
+        heading_noise: float = 0.0,
     ) -> None:
         if action_type not in ACTION_TYPES:
             raise ValueError(f"action_type {action_type!r} is unknown; choose one of {', '.join(ACTION_TYPES)}")
@@ -113,7 +121,10 @@ class HippoMazeEnv(gym.Env):
             raise ValueError(f"reward_type {reward_type!r} is unknown; choose one of {', '.join(REWARD_TYPES)}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode {render_mode!r} is unknown; choose None or one of {', '.join(self.metadata['render_modes'])}")
-        for name, value in (("range_noise", range_noise), ("goal_radius", goal_radius), ("min_start_distance", min_start_distance)):
+        if not isinstance(odometry, bool):
+            raise ValueError(f"odometry must be True or False, got {odometry!r}")
+        noises = (("range_noise", range_noise), ("odometry_noise", odometry_noise), ("heading_noise", heading_noise))
+        for name, value in (*noises, ("goal_radius", goal_radius), ("min_start_distance", min_start_distance)):
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if goal_radius <= 0:
@@ -123,6 +134,9 @@ class HippoMazeEnv(gym.Env):
         self.rangefinder = Rangefinder(self.maze.segments, n_rays, max_range)
         self.world = physics.RobotWorld(self.maze)
         self.range_noise = float(range_noise)
+        self.odometry = odometry
+        self.odometry_noise = float(odometry_noise)
+        self.heading_noise = float(heading_noise)
         self.action_type = action_type
         self.reward_type = reward_type
         self.goal_radius = float(goal_radius)
@@ -130,12 +144,13 @@ class HippoMazeEnv(gym.Env):
         self.render_mode = render_mode
         self.render_rays = bool(render_rays)
 
-        self.observation_space = spaces.Dict(
-            {
-                "ranges": spaces.Box(0.0, self.rangefinder.max_range, (self.rangefinder.n_rays,), np.float32),
-                "heading": spaces.Box(-1.0, 1.0, (2,), np.float32),
-            }
-        )
+        observation_spaces = {
+            "ranges": spaces.Box(0.0, self.rangefinder.max_range, (self.rangefinder.n_rays,), np.float32),
+            "heading": spaces.Box(-1.0, 1.0, (2,), np.float32),
+        }
+        if odometry:
+            observation_spaces["odometry"] = spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
+        self.observation_space = spaces.Dict(observation_spaces)
         if action_type == "discrete":
             self.action_space: spaces.Space = spaces.Discrete(8)
         elif action_type == "heading":
@@ -190,7 +205,7 @@ class HippoMazeEnv(gym.Env):
         self._path_length = 0.0
         self._elapsed = 0
         self._shortest = self._shortest_path(start)
-        observation = self._observe()
+        observation = self._observe(moved=(0.0, 0.0))
         if self.render_mode == "human":
             self.render()
         return observation, self._info(collision=False, success=False)
@@ -214,7 +229,7 @@ class HippoMazeEnv(gym.Env):
         if self.reward_type == "dense" and self.goal is not None:
             progress = self._distance_to_goal(before) - self._distance_to_goal(after)
             reward += 0.1 * progress / (physics.MAX_SPEED * physics.CONTROL_DT)
-        observation = self._observe()
+        observation = self._observe(moved=(after[0] - before[0], after[1] - before[1]))
         info = self._info(collision=collision, success=success)
         if success:
             add_indirectness(info)
@@ -249,13 +264,22 @@ class HippoMazeEnv(gym.Env):
         return np.asarray(self._path).reshape(-1, 2)
 
     # ------------------------------------------------------------------ internals
-    def _observe(self) -> dict[str, np.ndarray]:
+    def _observe(self, moved: tuple[float, float]) -> dict[str, np.ndarray]:
+        """The observation at the robot's pose; ``moved`` is its allocentric displacement this step."""
         heading = self.world.heading
         ranges = self.rangefinder.scan(self._path[-1], heading)
         self._ranges = ranges
         if self.range_noise > 0:
             ranges = np.clip(ranges + self.np_random.normal(0.0, self.range_noise, ranges.shape), 0.0, self.rangefinder.max_range)
-        return {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(heading), math.sin(heading)], np.float32)}
+        compass = heading + self.np_random.normal(0.0, self.heading_noise) if self.heading_noise > 0 else heading
+        observation = {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(compass), math.sin(compass)], np.float32)}
+        if self.odometry:
+            c, s = math.cos(heading), math.sin(heading)
+            step = np.array([c * moved[0] + s * moved[1], -s * moved[0] + c * moved[1]])  # (forward, left)
+            if self.odometry_noise > 0:
+                step += self.np_random.normal(0.0, self.odometry_noise * math.hypot(*moved), 2)
+            observation["odometry"] = np.clip(step, -ODOMETRY_BOUND, ODOMETRY_BOUND).astype(np.float32)
+        return observation
 
     def _info(self, collision: bool, success: bool) -> dict[str, Any]:
         goal = (math.nan, math.nan) if self.goal is None else (float(self.goal[0]), float(self.goal[1]))

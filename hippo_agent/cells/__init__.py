@@ -2,7 +2,8 @@
 
 from hippo_agent.cells.boundary_vector import BoundaryVectorCells
 from hippo_agent.cells.head_direction import HeadDirectionCells
+from hippo_agent.cells.path_integration import PathIntegrator
 from hippo_agent.cells.place import PlaceCells
 from hippo_agent.cells.reward import RewardCells, replay
 
-__all__ = ["BoundaryVectorCells", "HeadDirectionCells", "PlaceCells", "RewardCells", "replay"]
+__all__ = ["BoundaryVectorCells", "HeadDirectionCells", "PathIntegrator", "PlaceCells", "RewardCells", "replay"]

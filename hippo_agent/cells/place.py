@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 __all__ = ["PlaceCells"]
@@ -85,6 +87,11 @@ class PlaceCells:
         self.v = np.zeros(self.n)
         self.trace = np.zeros(self.n)  # Upsilon^p
         self.hd_trace = np.zeros(self.n_hd)  # Upsilon^h
+        # path integration (improved model only): the BVC-only response and each cell's centre
+        self.s_sense = np.zeros(self.n)
+        self.v_sense = np.zeros(self.n)
+        self.centres = np.zeros((self.n, 2))
+        self.centre_mass = np.zeros(self.n)  # 0: no centre yet
 
     @property
     def _W_pb_blocks(self) -> list[np.ndarray]:
@@ -97,29 +104,96 @@ class PlaceCells:
         self.v = np.zeros(self.n)
         self.trace = np.zeros(self.n)
         self.hd_trace = np.zeros(self.n_hd)
+        self.s_sense = np.zeros(self.n)
+        self.v_sense = np.zeros(self.n)
 
-    def _step(self, s: np.ndarray, v: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _matvec(self, b: np.ndarray) -> np.ndarray:
+        """``W_pb b`` in float32."""
         b32 = b.astype(np.float32)
         # row blocks of MATVEC_ROWS: OpenBLAS threads bigger float32 matvecs, which on a loaded
         # machine made the 4000 x 400 product 30x slower than one thread; 1000 cells is one block
-        drive = np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
-        drive = drive - (self.Gamma_pb * b.sum() + self.Gamma_pp * v.sum())
+        return np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
+
+    def _advance(self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float,
+                 extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """One eq.-3/4 update given ``W_pb b``, ``sum(b)`` and an optional extra input (path integration)."""
+        drive = Wb - (self.Gamma_pb * b_sum + self.Gamma_pp * v.sum())
+        if extra is not None:
+            drive = drive + extra
         s = s + self.k * (-s + drive)  # eq. 3 (Euler step, k = dt / tau_p)
         v = np.tanh(np.maximum(self.psi * s, 0.0))  # eq. 4
         return s, v
 
     def step(self, b: np.ndarray, n_steps: int = 1) -> np.ndarray:
         """Advance eqs. 3-4 by ``n_steps`` updates with BVC rates ``b``; return the rates."""
+        Wb, b_sum = self._matvec(b), b.sum()
         for _ in range(n_steps):
-            self.s, self.v = self._step(self.s, self.v, b)
+            self.s, self.v = self._advance(self.s, self.v, Wb, b_sum)
         return self.v
 
-    def rates_for(self, b: np.ndarray, n_steps: int) -> np.ndarray:
-        """Rates after ``n_steps`` updates from rest with input ``b``; the state is not touched."""
-        s, v = np.zeros(self.n), np.zeros(self.n)
+    def step_with_sense(self, b: np.ndarray, extra_for: Callable[[], np.ndarray | None], n_steps: int = 1) -> np.ndarray:
+        """Advance the BVC-only response (``s_sense``, ``v_sense``: what the boundary code alone
+        says) and then the rates with the extra drive ``extra_for()`` (path integration), called
+        after each BVC-only update so it can read ``v_sense``; ``None`` = no extra drive (the
+        rates then equal the BVC-only response)."""
+        Wb, b_sum = self._matvec(b), b.sum()
         for _ in range(n_steps):
-            s, v = self._step(s, v, b)
+            self.s_sense, self.v_sense = self._advance(self.s_sense, self.v_sense, Wb, b_sum)
+            extra = extra_for()
+            if extra is None:
+                self.s, self.v = self.s_sense.copy(), self.v_sense.copy()
+            else:
+                self.s, self.v = self._advance(self.s, self.v, Wb, b_sum, extra)
+        return self.v
+
+    def settle(self, b: np.ndarray, extra: np.ndarray | None, n_steps: int) -> np.ndarray:
+        """Rates from rest after ``n_steps`` updates with ``b`` and the extra drive (the BVC-only
+        response is left as it is)."""
+        self.s, self.v = np.zeros(self.n), np.zeros(self.n)
+        Wb, b_sum = self._matvec(b), b.sum()
+        for _ in range(n_steps):
+            self.s, self.v = self._advance(self.s, self.v, Wb, b_sum, extra)
+        return self.v
+
+    def rates_for(self, b: np.ndarray, n_steps: int, extra: np.ndarray | None = None) -> np.ndarray:
+        """Rates after ``n_steps`` updates from rest with input ``b`` (and ``extra``); the state is not touched."""
+        s, v = np.zeros(self.n), np.zeros(self.n)
+        Wb, b_sum = self._matvec(b), b.sum()
+        for _ in range(n_steps):
+            s, v = self._advance(s, v, Wb, b_sum, extra)
         return v
+
+    # ------------------------------------------------------------------ path-integration centres
+    def pi_input(self, position: np.ndarray, gain: float, sigma: float, threshold: float) -> np.ndarray:
+        """Path-integration drive: ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells
+        with a centre ``c_i``, 0 for the others (they stay free to take new places)."""
+        out = np.zeros(self.n)
+        has = self.centre_mass > 0.0
+        if has.any():
+            d2 = ((self.centres[has] - position) ** 2).sum(axis=1)
+            out[has] = gain * (np.exp(-d2 / (2.0 * sigma * sigma)) - threshold)
+        return out
+
+    def learn_centres(self, position: np.ndarray, max_mass: float) -> None:
+        """Each active cell's centre moves toward ``position`` by its rate over its accumulated
+        rate (a running mean, capped at ``max_mass`` so it can still follow slowly)."""
+        act = np.flatnonzero(self.v > 0.0)
+        if act.size == 0:
+            return
+        mass = np.minimum(self.centre_mass[act] + self.v[act], max_mass)
+        rate = self.v[act] / mass
+        self.centres[act] += rate[:, None] * (position - self.centres[act])
+        self.centre_mass[act] = mass
+
+    def sensory_vote(self, min_mass: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """(rates, centres) of the cells active in the BVC-only response whose centre has
+        accumulated at least ``min_mass``, and their share of all the BVC-only activity (low at
+        the edge of what has been mapped, where cells without a centre yet are active)."""
+        on = self.v_sense > 0.0
+        act = np.flatnonzero(on & (self.centre_mass >= min_mass))
+        total = float(self.v_sense[on].sum())
+        share = float(self.v_sense[act].sum()) / total if total > 0 else 0.0
+        return self.v_sense[act], self.centres[act], share
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:

@@ -1,0 +1,400 @@
+"""Why the hippocampal agent finds its way, or does not: the model's diagnosis in one maze.
+
+Runs DMTP days with the agent, watching it from outside (this harness reads the true position;
+the agent never does) and measures, per maze:
+
+- **twins**: the share of places (a 0.5 m grid over the free space) whose place code has a
+  distant look-alike: another place more than 2 m away by path whose place-rate vector has cosine
+  > 0.5 with it. Measured after each day's last run on the code the agent navigates with (with path
+  integration: as if localised there), and on the boundary code alone (``twins_bvc``).
+- **reward map** after run 1: ``coverage`` (share of places with value > ``xi_here``) and
+  ``spearman`` (rank correlation of value with the geodesic distance to the goal over covered
+  places; -1 = perfectly graded toward the goal).
+- **replay reach**: for replay iteration t of run 1's replay, the median and 90th-percentile
+  geodesic distance from the goal of the field peaks of the cells replay has reached.
+- **preplay progress**: on exploiting steps of runs 2-4, the geodesic progress toward the goal per
+  step, as a share of the step's length (1 = straight down the shortest path).
+- **exploit**: in runs 2-4, the share of steps where the agent fell back to exploring, and bumps
+  per exploiting step.
+- **path integration**: the median distance between the estimate and the true position in the
+  agent's frame over anchored steps, and the steps from a run's start to anchoring.
+- ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
+  estimate is replaced by the true position at every step (exact self-localisation).
+
+``python -m benchmarks.diagnose --maze maze2 --trials 10 --seed 0`` prints the figures and writes
+``benchmarks/results/diagnose/<maze>[-paper|-oracle].json``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent.cells import PathIntegrator
+from hippo_env.maze import MazeSpec
+from hippo_env.protocol import run_dmtp
+
+TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
+TWIN_COSINE = 0.5
+SAMPLE_SPACING = 0.5  # m between sampled places
+GRAPH_SPACING = 0.1  # m, grid of the geodesic graph
+
+
+@dataclasses.dataclass
+class DiagnoseArgs:
+    maze: str = "maze2"
+    """built-in maze or a JSON path"""
+    trials: int = 10
+    """DMTP days (each a fresh agent)"""
+    seed: int = 0
+    """seeds goals, starts and agents"""
+    paper: bool = False
+    """diagnose AgentConfig.paper() (no path integration) instead of the default model"""
+    oracle: bool = False
+    """PRIVILEGED ceiling: the path-integration estimate is the true position"""
+    dry_run_steps: int = -1
+    """pre-exploration steps (-1: the config's default)"""
+    config: str = ""
+    """more AgentConfig fields as JSON, e.g. '{"pi_gain": 2.0}'"""
+    out: str = ""
+    """output JSON ('' = benchmarks/results/diagnose/<maze>[-paper|-oracle].json)"""
+
+
+# ------------------------------------------------------------------ geometry (analysis only)
+class FreeGraph:
+    """Geodesic distances over a grid of the free space (8-connected), for any pair of points."""
+
+    def __init__(self, spec: MazeSpec, spacing: float = GRAPH_SPACING) -> None:
+        from scipy.sparse import coo_matrix
+
+        from hippo_env.physics import ROBOT_RADIUS
+
+        hw, hh = spec.half_extent
+        xs = np.arange(-hw + spacing / 2, hw, spacing)
+        ys = np.arange(-hh + spacing / 2, hh, spacing)
+        self.spacing, self.origin, self.shape = spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs))
+        gx, gy = np.meshgrid(xs, ys)
+        points = np.column_stack([gx.ravel(), gy.ravel()])
+        self.free = np.array([spec.clearance(p) >= ROBOT_RADIUS for p in points])
+        rows, cols = self.shape
+        idx = np.arange(rows * cols).reshape(rows, cols)
+        src, dst, w = [], [], []
+        for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):  # each undirected edge once
+            c0, c1 = max(0, -dc), cols - max(0, dc)
+            a = idx[: rows - dr, c0:c1]
+            b = idx[dr:, c0 + dc : c1 + dc]
+            ok = self.free[a.ravel()] & self.free[b.ravel()]
+            src.append(a.ravel()[ok])
+            dst.append(b.ravel()[ok])
+            w.append(np.full(ok.sum(), spacing * math.hypot(dr, dc)))
+        n = rows * cols
+        self.graph = coo_matrix((np.concatenate(w), (np.concatenate(src), np.concatenate(dst))), shape=(n, n)).tocsr()
+        self.points = points
+
+    def node(self, positions: np.ndarray) -> np.ndarray:
+        """The nearest free grid node of each position."""
+        positions = np.asarray(positions, float).reshape(-1, 2)
+        free_idx = np.flatnonzero(self.free)
+        d = ((positions[:, None, :] - self.points[free_idx][None, :, :]) ** 2).sum(axis=2)
+        return free_idx[d.argmin(axis=1)]
+
+    def distances(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """Geodesic distance matrix, ``(len(sources), len(targets))``."""
+        from scipy.sparse.csgraph import dijkstra
+
+        full = dijkstra(self.graph, directed=False, indices=self.node(sources))
+        return full[:, self.node(targets)]
+
+
+def sample_places(spec: MazeSpec, spacing: float = SAMPLE_SPACING) -> np.ndarray:
+    """Free places on a grid (clearance of at least 0.3 m)."""
+    hw, hh = spec.half_extent
+    xs = np.arange(-hw + spacing / 2, hw, spacing)
+    ys = np.arange(-hh + spacing / 2, hh, spacing)
+    points = np.array([(x, y) for y in ys for x in xs])
+    return points[[spec.clearance(p) >= 0.3 for p in points]]
+
+
+def spearman(x: np.ndarray, y: np.ndarray) -> float | None:
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if len(x) < 5 or np.ptp(x) == 0 or np.ptp(y) == 0:
+        return None
+    rx, ry = np.argsort(np.argsort(x)), np.argsort(np.argsort(y))
+    return float(np.corrcoef(rx, ry)[0, 1])
+
+
+def twin_share(rates: np.ndarray, path_distance: np.ndarray) -> float | None:
+    """Share of active places with a look-alike more than ``TWIN_PATH`` away by path."""
+    norm = np.linalg.norm(rates, axis=1)
+    active = norm > 0
+    if active.sum() < 2:
+        return None
+    unit = rates[active] / norm[active, None]
+    cosine = unit @ unit.T
+    far = path_distance[np.ix_(active, active)] > TWIN_PATH
+    return float(((cosine > TWIN_COSINE) & far).any(axis=1).mean())
+
+
+# ------------------------------------------------------------------ watching the agent
+class OracleIntegrator(PathIntegrator):
+    """PRIVILEGED: the estimate is set from outside to the true position in the agent's frame."""
+
+    truth: np.ndarray | None = None
+
+    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0) -> None:
+        if self.truth is not None:
+            self.estimate = self.truth.copy()
+            self.confidence = 1.0
+            self.anchored = True
+
+
+class Watcher:
+    """Wraps an agent: passes every call through and records what it needs, with the true position."""
+
+    def __init__(self, agent: HippocampalAgent, oracle: bool) -> None:
+        self.agent = agent
+        self.origin: np.ndarray | None = None
+        self.oracle = oracle
+        if oracle:
+            pi = OracleIntegrator.__new__(OracleIntegrator)
+            pi.__dict__.update(agent.pi.__dict__)
+            agent.pi = pi
+        self.run = -1
+        self.pi_errors: list[float] = []
+        self.dry_pi_errors: list[float] = []
+        self.anchor_steps: list[int] = []
+        self.progress: list[float] = []
+        self.exploit_bumps = 0
+        self.exploit_steps = 0
+        self.steps_later = 0
+        self.explore_later = 0
+        self._steps_in_run = 0
+        self._anchored_at: int | None = None
+        self._last_distance: float | None = None
+        self.env: Any = None
+
+    # the protocol
+    def prepare(self, env: Any) -> None:
+        self.run = -1
+        self.env = env
+        agent, inner = self.agent, self
+
+        def reset(observation: Any, info: dict[str, Any]) -> None:
+            inner._saw(info, reset=True)
+            type(agent).reset(agent, observation, info)
+            inner._after(info)
+
+        def observe(action: Any, observation: Any, reward: float, terminated: bool, truncated: bool, info: dict[str, Any]) -> None:
+            inner._saw(info, reset=False)
+            type(agent).observe(agent, action, observation, reward, terminated, truncated, info)
+            inner._after(info)
+
+        agent.reset, agent.observe = reset, observe  # watch the agent's own pre-exploration loop
+        try:
+            agent.prepare(env)
+        finally:
+            del agent.reset, agent.observe
+        self.dry_pi_errors = list(self.pi_errors)
+
+    def start_trial(self, trial: int) -> None:
+        self.agent.start_trial(trial)
+        self.run = -1
+
+    def reset(self, observation: Any, info: dict[str, Any]) -> None:
+        self.run += 1
+        self._saw(info, reset=True)
+        self.agent.reset(observation, info)
+        self._after(info)
+
+    def act(self, observation: Any) -> Any:
+        return self.agent.act(observation)
+
+    def observe(self, action: Any, observation: Any, reward: float, terminated: bool, truncated: bool, info: dict[str, Any]) -> None:
+        decision = self.agent.last_decision
+        self._saw(info, reset=False)
+        self.agent.observe(action, observation, reward, terminated, truncated, info)
+        self._after(info)
+        if self.run >= 1:
+            self.steps_later += 1
+            if decision == "exploit":
+                self.exploit_steps += 1
+                self.exploit_bumps += int(bool(info.get("collision")))
+                d = self._goal_distance(info)
+                if self._last_distance is not None and math.isfinite(d):
+                    self.progress.append((self._last_distance - d) / 0.15)
+            else:
+                self.explore_later += 1
+        self._last_distance = self._goal_distance(info)
+
+    # bookkeeping
+    def _goal_distance(self, info: dict[str, Any]) -> float:
+        goal = info.get("goal")
+        if goal is None or not np.all(np.isfinite(goal)) or self.env is None:
+            return math.nan
+        return float(self.env.unwrapped._distance_to_goal(np.asarray(info["position"], float)))
+
+    def _saw(self, info: dict[str, Any], reset: bool) -> None:
+        position = np.asarray(info["position"], float)
+        if self.origin is None:
+            self.origin = position.copy()
+        if reset:
+            self._steps_in_run = 0
+            self._anchored_at = None
+            self._last_distance = None
+        else:
+            self._steps_in_run += 1
+        if self.oracle:
+            self.agent.pi.truth = position - self.origin
+
+    def _after(self, info: dict[str, Any]) -> None:
+        pi = self.agent.pi
+        if not self.agent.config.path_integration or not pi.anchored:
+            return
+        if self._anchored_at is None:
+            self._anchored_at = self._steps_in_run
+            self.anchor_steps.append(self._steps_in_run)
+        truth = np.asarray(info["position"], float) - self.origin
+        self.pi_errors.append(float(np.linalg.norm(pi.estimate - truth)))
+
+
+def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
+    """Run the days and measure; returns the record written to JSON."""
+    spec = MazeSpec.load(args.maze)
+    overrides = {} if args.dry_run_steps < 0 else {"dry_run_steps": args.dry_run_steps}
+    overrides.update(json.loads(args.config) if args.config else {})
+    config = AgentConfig.paper(**overrides) if args.paper else AgentConfig(**overrides)
+    graph = FreeGraph(spec)
+    places = sample_places(spec)
+    place_distance = graph.distances(places, places)
+    watchers: list[Watcher] = []
+    per_trial: list[dict[str, Any]] = []
+
+    def make(observation_space: Any, action_space: Any, seed: int) -> Watcher:
+        watchers.append(Watcher(HippocampalAgent(observation_space, action_space, config, seed=seed), args.oracle))
+        return watchers[-1]
+
+    def on_run_end(trial: int, run: int, watcher: Watcher, env: Any) -> None:
+        agent = watcher.agent
+        watcher.env = env
+        if run == 0:
+            goal = np.asarray(env.unwrapped.goal, float)
+            to_goal = graph.distances(goal[None], places)[0]
+            values = agent.reward_map(env, places)
+            ok = np.isfinite(values)
+            covered = ok & (values > config.xi_here)
+            record = {"trial": trial, "coverage": float(covered.sum() / max(ok.sum(), 1)),
+                      "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
+                      "replay_reach": replay_reach(agent, env, graph, goal)}
+            per_trial.append(record)
+        if run == args_runs - 1:
+            rates = agent.place_field_map(env, places)
+            per_trial[-1]["twins"] = twin_share(np.nan_to_num(rates), place_distance)
+            if config.path_integration:
+                bvc = np.array([agent.place_rates_at(env.unwrapped.observation_at(p)) for p in places])
+                per_trial[-1]["twins_bvc"] = twin_share(bvc, place_distance)
+
+    args_runs = 4
+    result = run_dmtp(make, spec, trials=args.trials, runs=args_runs, seed=args.seed,
+                      env_kwargs={"odometry": True} if config.path_integration else None,
+                      progress=True, on_run_end=on_run_end)
+    ind = result.indirectness()
+    ok = result.success()
+
+    def med(values: list[Any]) -> float | None:
+        values = [v for v in values if v is not None and math.isfinite(v)]
+        return float(np.median(values)) if values else None
+
+    later = ind[:, 1:]
+    all_progress = [p for w in watchers for p in w.progress]
+    exploit = sum(w.exploit_steps for w in watchers)
+    later_steps = sum(w.steps_later for w in watchers)
+    reach = [t["replay_reach"] for t in per_trial]
+    n_iter = max((len(r) for r in reach), default=0)
+    record = {
+        "maze": spec.name,
+        "model": "paper" if args.paper else "default",
+        "oracle_privileged": args.oracle,
+        "trials": args.trials,
+        "seed": args.seed,
+        "config": config.to_dict(),
+        "indirectness_median_per_run": [med(list(ind[:, r])) for r in range(ind.shape[1])],
+        "runs_2_4_median": med(list(later.ravel())),
+        "runs_2_4_reached": float(ok[:, 1:].mean()),
+        "runs_2_4_below_1": float((later < 1).mean()),
+        "twins": med([t.get("twins") for t in per_trial]),
+        "twins_bvc": med([t.get("twins_bvc") for t in per_trial]),
+        "reward_map_coverage": med([t["coverage"] for t in per_trial]),
+        "reward_map_spearman": med([t["spearman"] for t in per_trial]),
+        "replay_reach_median_m": [med([r[i][0] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
+        "replay_reach_p90_m": [med([r[i][1] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
+        "preplay_progress": med(all_progress),
+        "exploit_fallback_share": (1 - exploit / later_steps) if later_steps else None,
+        "exploit_bumps_per_step": (sum(w.exploit_bumps for w in watchers) / exploit) if exploit else None,
+        "pi_error_median_m": med([e for w in watchers for e in w.pi_errors]),
+        "pi_error_p90_m": float(np.quantile([e for w in watchers for e in w.pi_errors], 0.9)) if any(w.pi_errors for w in watchers) else None,
+        "anchor_steps_median": med([float(s) for w in watchers for s in w.anchor_steps]),
+        "env_steps_total": result.env_steps_total,
+        "per_trial": per_trial,
+    }
+    return record
+
+
+def replay_reach(agent: HippocampalAgent, env: Any, graph: FreeGraph, goal: np.ndarray) -> list[tuple[float, float]]:
+    """Run 1's replay again from the goal's rates (nothing learnt) and, per iteration, the median
+    and 90th-percentile path distance from the goal of the field peaks of the reached cells."""
+    place = agent.place
+    v = place.v.copy()
+    if not np.any(v > 0):
+        return []
+    peaks = field_peaks(agent, env)
+    to_goal = graph.distances(goal[None], peaks[np.isfinite(peaks[:, 0])])[0] if np.isfinite(peaks[:, 0]).any() else np.zeros(0)
+    dist_of = np.full(place.n, np.nan)
+    dist_of[np.isfinite(peaks[:, 0])] = to_goal
+    out = []
+    M = place.replay_weights()
+    v_bar = v.astype(np.float64)
+    for _ in range(agent.config.replay_iterations):
+        reached = np.flatnonzero(v_bar > 0)
+        d = dist_of[reached]
+        d = d[np.isfinite(d)]
+        out.append((float(np.median(d)) if d.size else math.nan, float(np.quantile(d, 0.9)) if d.size else math.nan))
+        v_bar = np.tanh(np.maximum(v_bar + v_bar @ M, 0.0))
+    return out
+
+
+def field_peaks(agent: HippocampalAgent, env: Any, spacing: float = 0.25) -> np.ndarray:
+    """Each cell's field peak (NaN for cells silent everywhere) on a grid."""
+    points = sample_places(env.unwrapped.maze, spacing)
+    rates = np.nan_to_num(agent.place_field_map(env, points))
+    peaks = np.full((agent.place.n, 2), np.nan)
+    fires = rates.max(axis=0) > 0
+    peaks[fires] = points[rates[:, fires].argmax(axis=0)]
+    return peaks
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(DiagnoseArgs, __doc__.splitlines()[0], argv)
+    load_start = load_average()
+    record = diagnose(args)
+    record.update({"command": command_line(), "machine": machine_info(), "load_start": load_start, "load_end": load_average()})
+    suffix = "-paper" if args.paper else "-oracle" if args.oracle else ""
+    out = Path(args.out) if args.out else REPO / "benchmarks" / "results" / "diagnose" / f"{Path(args.maze).stem}{suffix}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(record, indent=1) + "\n")
+    shown = {k: v for k, v in record.items() if k not in ("per_trial", "config", "machine")}
+    for k, v in shown.items():
+        print(f"{k}: {json.dumps(v)}")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,111 @@
+"""DMTP in every maze: the hippocampal agent's runs 2-4 indirectness, per maze and seed.
+
+``python -m benchmarks.maze_suite --model default --seeds 0 1`` runs 20 days x 4 runs in the
+built-in mazes and 5 generated ones (``hippo_env.generate``, seeds 100-104, never looked at while
+tuning) and writes ``benchmarks/results/maze_suite_<model>.json``: per maze and seed the median
+indirectness of each run, of runs 2-4 together, the share of runs 2-4 that reached the goal, and
+the run-1 length vs run-2 indirectness correlation. ``--model paper`` runs ``AgentConfig.paper()``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+
+BUILT_IN = ("open", "maze1", "maze2", "maze3", "maze4")
+GENERATED = (("walls", 100), ("corridors", 101), ("walls", 102), ("corridors", 103), ("walls", 104))
+
+
+@dataclasses.dataclass
+class SuiteArgs:
+    model: str = "default"
+    """default (path integration) or paper (AgentConfig.paper())"""
+    seeds: tuple[int, ...] = (0, 1)
+    """runner seeds"""
+    trials: int = 20
+    """days per maze and seed"""
+    mazes: tuple[str, ...] = ()
+    """mazes to run ('' = the built-in ones and the generated ones); gen-walls-100 names a generated one"""
+    workers: int = 2
+    """processes"""
+    dry_run_steps: int = -1
+    """pre-exploration steps (-1: the config's default)"""
+    out: str = ""
+    """output JSON ('' = benchmarks/results/maze_suite_<model>.json)"""
+
+
+def maze_source(name: str) -> str:
+    """A built-in name, or a generated maze written to a temporary JSON file."""
+    if not name.startswith("gen-"):
+        return name
+    from hippo_env.generate import generate_maze, maze_json
+
+    _, kind, seed = name.split("-")
+    path = Path(tempfile.gettempdir()) / f"hippomaze-{name}.json"
+    path.write_text(maze_json(generate_maze(int(seed), kind)))
+    return str(path)
+
+
+def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int) -> dict[str, Any]:
+    from hippo_agent import AgentConfig, HippocampalAgent
+    from hippo_env.protocol import run_dmtp
+
+    overrides = {} if dry_run_steps < 0 else {"dry_run_steps": dry_run_steps}
+    config = AgentConfig.paper(**overrides) if model == "paper" else AgentConfig(**overrides)
+    began = time.process_time()
+    result = run_dmtp(lambda o, a, seed: HippocampalAgent(o, a, config, seed=seed), maze_source(maze), trials=trials, runs=4,
+                      seed=seed, env_kwargs={"odometry": True} if config.path_integration else None, progress=False)
+    ind, ok = result.indirectness(), result.success()
+    summary = result.summary()
+    later = ind[:, 1:]
+    return {
+        "maze": maze, "seed": seed, "trials": trials,
+        "median_per_run": summary["median_indirectness"],
+        "runs_2_4_median": float(np.nanmedian(later)),
+        "runs_2_4_reached": float(ok[:, 1:].mean()),
+        "runs_2_4_below_1": float((later < 1).mean()),
+        "pearson_run1_length_run2_indirectness": summary.get("pearson_run1_length_run2_indirectness"),
+        "run1_lengths": [e.path_length for e in result.episodes if e.run == 0],
+        "run2_indirectness": [e.indirectness for e in result.episodes if e.run == 1],
+        "env_steps_total": result.env_steps_total,
+        "cpu_seconds": time.process_time() - began,
+    }
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(SuiteArgs, __doc__.splitlines()[0], argv)
+    if args.model not in ("default", "paper"):
+        raise SystemExit(f"--model {args.model!r} is unknown; allowed: default, paper")
+    mazes = args.mazes or (*BUILT_IN, *(f"gen-{k}-{s}" for k, s in GENERATED))
+    load_start = load_average()
+    jobs = [(args.model, m, s, args.trials, args.dry_run_steps) for m in mazes for s in args.seeds]
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        futures = [pool.submit(one, *job) for job in jobs]
+        rows = []
+        for f in futures:
+            rows.append(f.result())
+            r = rows[-1]
+            print(f"{r['maze']:>18} seed {r['seed']}: runs 2-4 median {r['runs_2_4_median']:.2f}, reached {r['runs_2_4_reached']:.0%}, "
+                  f"per run {[None if x is None else round(x, 2) for x in r['median_per_run']]}", flush=True)
+    record = {"command": command_line(), "model": args.model, "machine": machine_info(), "load_start": load_start,
+              "load_end": load_average(), "rows": rows}
+    out = Path(args.out) if args.out else REPO / "benchmarks" / "results" / f"maze_suite_{args.model}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(f".tmp{os.getpid()}")
+    tmp.write_text(json.dumps(record, indent=1) + "\n")
+    tmp.replace(out)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,162 @@
+"""Path integration: where the robot is in its own frame, from odometry, anchored by the place code.
+
+The paper's robot has only its rangefinder and compass, and its boundary-vector place code gives
+distant places that look alike the same cells. Animals also integrate their self-motion; this
+module adds that input, as the improved model's extension of the paper (off in
+``AgentConfig.paper()``).
+
+The estimate lives in a self-centred frame: the origin is where the agent first stood, the axes
+are the compass's. Each step it moves by the odometry (the wheel encoders' displacement rotated
+by the compass heading). The belief is a set of weighted samples (a particle filter: a sampled
+stand-in for the activity packet of a continuous-attractor path integrator), so that after the
+robot is picked up and put down elsewhere (a new run) several candidate places can be held at
+once until the senses single one out.
+
+The senses enter through the place cells: each cell keeps the position, in this frame, where it
+fires (its *centre*, a rate-weighted running mean: the place -> path-integration synapses). The
+boundary-vector code alone (the place cells' response with the path-integration input left out)
+then votes for positions: a sample near the centres of the active cells is likely, one far from
+all of them is not. That vote
+
+- *anchors* the estimate at the start of a run: samples are drawn around the voted centres until
+  one cluster holds most of the weight; and
+- *corrects* it on every later step, so odometry noise never accumulates: samples spread by the
+  odometry's noise and are re-weighted by the vote.
+
+Args:
+    n_particles: number of samples.
+    rng: the agent's generator.
+    motion_noise: spread added to each sample per step, as a fraction of the distance moved,
+        plus ``min_motion_noise`` metres.
+    vote_sigma: width (m) of each active cell's vote around its centre.
+    anchor_radius: samples within this distance (m) of the best one form its cluster.
+    anchor_weight: the cluster's share of the weight at which a lost estimate counts as anchored.
+    redraw_fraction: while lost, this share of the samples is drawn afresh from the vote each step.
+    lag: the place rates lag the input by this many steps (``(1 - k) / k`` for eq. 3's Euler update),
+        so the vote is compared with where each sample was that many steps ago (``lag`` times the
+        last step back), and cells learn their centres there too (:meth:`lagged_estimate`).
+        Without it the vote pulls the estimate back along the path and the centres drift with it.
+    min_mapped: see :meth:`PathIntegrator.correct`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["PathIntegrator"]
+
+VOTE_FLOOR = 1e-3  # likelihood of a sample far from every voted centre (never exactly 0)
+
+
+class PathIntegrator:
+    """A self-localising path integrator (see the module docstring)."""
+
+    def __init__(
+        self,
+        n_particles: int,
+        rng: np.random.Generator,
+        *,
+        motion_noise: float,
+        min_motion_noise: float,
+        vote_sigma: float,
+        anchor_radius: float,
+        anchor_weight: float,
+        redraw_fraction: float,
+        lag: float = 0.0,
+        min_mapped: float = 0.8,
+    ) -> None:
+        self.n_particles = int(n_particles)
+        self.rng = rng
+        self.motion_noise = float(motion_noise)
+        self.min_motion_noise = float(min_motion_noise)
+        self.vote_sigma = float(vote_sigma)
+        self.anchor_radius = float(anchor_radius)
+        self.anchor_weight = float(anchor_weight)
+        self.redraw_fraction = float(redraw_fraction)
+        self.particles = np.zeros((self.n_particles, 2))
+        self.weights = np.full(self.n_particles, 1.0 / self.n_particles)
+        self.estimate = np.zeros(2)
+        self.confidence = 0.0
+        self.frame_started = False  # the frame's origin has been set (the agent's first run)
+        self.anchored = False
+        self.fresh = False  # kidnapped and no sample drawn from the vote yet
+        self.lag = float(lag)
+        self.min_mapped = float(min_mapped)
+        self.last_step = np.zeros(2)
+
+    def start_run(self) -> None:
+        """A run begins. The first ever run sets the frame (origin here); later ones are kidnaps."""
+        if not self.frame_started:
+            self.frame_started = True
+            self.particles[:] = 0.0
+            self.last_step = np.zeros(2)
+            self.weights[:] = 1.0 / self.n_particles
+            self.estimate = np.zeros(2)
+            self.confidence = 1.0
+            self.anchored = True
+        else:
+            self.last_step = np.zeros(2)
+            self.anchored = False
+            self.fresh = True
+            self.confidence = 0.0
+
+    def move(self, step: np.ndarray) -> None:
+        """Path integration: shift every sample by the allocentric ``step`` (m), plus noise."""
+        self.last_step = np.asarray(step, dtype=np.float64)
+        spread = self.motion_noise * float(np.hypot(step[0], step[1])) + self.min_motion_noise
+        self.particles += step
+        if spread > 0:
+            self.particles += self.rng.normal(0.0, spread, self.particles.shape)
+
+    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0) -> None:
+        """Weigh the samples by the sensory vote of cells with ``rates`` > 0 and ``centres``.
+
+        ``rates`` and ``centres`` are those of the active cells that have a centre; ``mapped`` is
+        their share of the activity. Once anchored, a vote from a place mapped less than
+        ``min_mapped`` is ignored: at the edge of the map only the cells behind the robot have
+        centres, and their vote would pull the estimate back. With no voting cell there is no
+        evidence and the samples keep their weights.
+        """
+        if rates.size and (not self.anchored or mapped >= self.min_mapped):
+            if not self.anchored:
+                self._redraw(rates, centres, self.n_particles if self.fresh else int(round(self.redraw_fraction * self.n_particles)))
+                self.fresh = False
+            then = self.particles - self.lag * self.last_step
+            d2 = ((then[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
+            vote = np.exp(-d2 / (2.0 * self.vote_sigma**2)) @ rates / rates.sum()
+            w = self.weights * (vote + VOTE_FLOOR)
+            self.weights = w / w.sum()
+            if 1.0 / float(np.sum(self.weights**2)) < 0.5 * self.n_particles:
+                self._resample()
+        self._summarise()
+
+    def lagged_estimate(self) -> np.ndarray:
+        """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
+        return self.estimate - self.lag * self.last_step
+
+    def _redraw(self, rates: np.ndarray, centres: np.ndarray, n: int) -> None:
+        """Replace the ``n`` lightest samples by draws around the voted centres (while lost)."""
+        if n < 1:
+            return
+        which = np.argsort(self.weights)[:n]
+        cells = self.rng.choice(rates.size, size=n, p=rates / rates.sum())
+        self.particles[which] = centres[cells] + self.lag * self.last_step + self.rng.normal(0.0, self.vote_sigma, (n, 2))
+        self.weights[which] = 1.0 / self.n_particles
+        self.weights /= self.weights.sum()
+
+    def _resample(self) -> None:
+        """Systematic resampling: heavy samples are copied, light ones dropped."""
+        positions = (self.rng.random() + np.arange(self.n_particles)) / self.n_particles
+        idx = np.minimum(np.searchsorted(np.cumsum(self.weights), positions), self.n_particles - 1)
+        self.particles = self.particles[idx]
+        self.weights = np.full(self.n_particles, 1.0 / self.n_particles)
+
+    def _summarise(self) -> None:
+        """The estimate is the weighted mean of the heaviest sample's cluster; its weight is the confidence."""
+        best = self.particles[int(np.argmax(self.weights))]
+        near = ((self.particles - best) ** 2).sum(axis=1) <= self.anchor_radius**2
+        w = self.weights[near]
+        self.confidence = float(w.sum())
+        self.estimate = (w @ self.particles[near]) / self.confidence
+        if not self.anchored and self.confidence >= self.anchor_weight:
+            self.anchored = True
