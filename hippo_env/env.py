@@ -314,9 +314,21 @@ class HippoMazeEnv(gym.Env):
         return point
 
     def _shortest_path(self, start: np.ndarray) -> float:
+        """The geodesic from ``start`` to the goal disk's edge; a clear error if there is none.
+
+        Every start and goal the environment accepts lies in one connected free space, so an
+        infinite geodesic is a defect: it is raised here rather than recorded as a missing value.
+        """
         if self.goal is None:
             return math.nan
-        return max(self.maze.geodesic(start, self.goal, physics.ROBOT_RADIUS) - self.goal_radius, 0.0)
+        length = self.maze.geodesic(start, self.goal, physics.ROBOT_RADIUS)
+        if not math.isfinite(length):
+            raise ValueError(
+                f"maze {self.maze.name!r}: no shortest path could be computed from the start ({start[0]:g}, {start[1]:g}) "
+                f"to the goal ({self.goal[0]:g}, {self.goal[1]:g}) for a robot of radius {physics.ROBOT_RADIUS} m; "
+                "please report this maze, or move the start or goal away from narrow gaps"
+            )
+        return max(length - self.goal_radius, 0.0)
 
     def _distance_to_goal(self, position: np.ndarray) -> float:
         """Geodesic distance to the goal, read off a grid distance field built once per goal."""

@@ -258,9 +258,13 @@ class MazeSpec:
                 # Outward normals of the two edges meeting at the corner; place points on the arc between them.
                 n_in = orientation * np.array([d_in[1], -d_in[0]]) / np.linalg.norm(d_in)
                 n_out = orientation * np.array([d_out[1], -d_out[0]]) / np.linalg.norm(d_out)
+                # The arc turns the way the polygon turns at a convex corner: counter-clockwise for a
+                # counter-clockwise polygon, clockwise for a clockwise one. The signed angle from n_in
+                # to n_out (in (-pi, pi)) takes the short way round in both cases; sweeping modulo
+                # 2*pi would take the long way for clockwise polygons and leave the corner uncovered.
                 a0 = math.atan2(n_in[1], n_in[0])
-                sweep = (math.atan2(n_out[1], n_out[0]) - a0) % (2 * math.pi)
-                steps = max(1, math.ceil(sweep / _ARC_STEP))
+                sweep = math.atan2(n_in[0] * n_out[1] - n_in[1] * n_out[0], float(n_in @ n_out))
+                steps = max(1, math.ceil(abs(sweep) / _ARC_STEP))
                 for s in range(steps + 1):
                     angle = a0 + sweep * s / steps
                     point = corner + margin * np.array([math.cos(angle), math.sin(angle)])
