@@ -1439,7 +1439,7 @@ def write_outputs(requested: PaperArgs, results: dict[str, Any], seconds: dict[s
         "report": report.name,
     }
     paper = _jsonable(paper)
-    (out / "paper.json").write_text(json.dumps(paper, indent=1) + "\n")
+    hippo_env.write_json(out / "paper.json", paper)
     if args.progress:
         print(f"wrote {report} and {out / 'paper.json'} ({len(figures)} figures) in {wall / 60:.1f} min")
     return paper
