@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from hippo_env.env import ACTION_TYPES
 from hippo_env.files import write_json
 
 # What `hippomaze dmtp` writes into its --out folder (cleared by --overwrite, nothing else is).
@@ -48,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there")
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
     dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
-    dmtp.add_argument("--action-type", default="discrete", choices=("discrete", "heading", "wheels"), help="the action space (default: discrete)")
+    dmtp.add_argument("--action-type", default="discrete", choices=ACTION_TYPES, help="the action space (default: discrete)")
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
 

@@ -15,7 +15,7 @@ from hippo_env import physics
 from hippo_env.maze import MazeSpec
 from hippo_env.sensors import Rangefinder
 
-ACTION_TYPES = ("discrete", "heading", "wheels")
+ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
 RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
 GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
@@ -38,6 +38,9 @@ class HippoMazeEnv(gym.Env):
       to the allocentric heading ``k * pi / 4`` (0 = +x, counter-clockwise) and drives it
       straight at 0.5 m/s for one control step of 0.3 s (0.15 m, less if a wall is in the way).
     - ``"heading"``: ``Box(-pi, pi, (1,))``, the allocentric heading to turn to, then one step as above.
+    - ``"heading_normalized"``: ``Box(-1, 1, (1,))``, the same heading in units of pi radians (one
+      unit = pi rad = 180 degrees: 0 = +x, 0.5 = +y, +-1 = -x), the symmetric normalised Box that
+      RL libraries expect; otherwise as ``"heading"``.
     - ``"wheels"``: ``Box(-1, 1, (2,))``, left and right wheel speeds as fractions of 0.5 m/s,
       held for one control step.
     An action outside the space raises ``ValueError``.
@@ -65,7 +68,8 @@ class HippoMazeEnv(gym.Env):
     ``TimeLimit`` wrapper that ``gym.make`` adds (and ``EpisodeEndInfo`` then adds ``indirectness``).
 
     ## Info
-    Every step: ``position`` (x, y), ``heading`` (rad), ``goal`` (x, y), ``is_success``,
+    Every step: ``position`` and ``goal``, each a float array ``[x, y]`` of shape (2,) (so vector
+    environments stack them as (n, 2) floats), ``heading`` (rad), ``is_success``,
     ``path_length`` (m since reset), ``shortest_path_length`` (m, geodesic from the episode's
     start to the goal disk's edge around obstacles inflated by the robot's radius),
     ``collision`` (a wall blocked the robot this step) and ``sim_time`` (simulated seconds since
@@ -76,7 +80,7 @@ class HippoMazeEnv(gym.Env):
     - ``maze``: a built-in name (``"open"``, ``"maze1"`` ... ``"maze4"``), a path to a maze JSON
       file, or a :class:`~hippo_env.maze.MazeSpec`.
     - ``n_rays`` (720), ``max_range`` (10.0 m), ``range_noise`` (0.0 m): the rangefinder.
-    - ``action_type``: ``"discrete"``, ``"heading"`` or ``"wheels"``.
+    - ``action_type``: ``"discrete"``, ``"heading"``, ``"heading_normalized"`` or ``"wheels"``.
     - ``reward_type``: ``"sparse"`` or ``"dense"``.
     - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
     - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
@@ -140,6 +144,8 @@ class HippoMazeEnv(gym.Env):
             self.action_space: spaces.Space = spaces.Discrete(8)
         elif action_type == "heading":
             self.action_space = spaces.Box(-math.pi, math.pi, (1,), np.float32)
+        elif action_type == "heading_normalized":
+            self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
         else:
             self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
 
@@ -201,6 +207,8 @@ class HippoMazeEnv(gym.Env):
             collision = self.world.drive_heading(self._discrete_action(action) * math.pi / 4)
         elif self.action_type == "heading":
             collision = self.world.drive_heading(float(self._box_action(action)[0]))
+        elif self.action_type == "heading_normalized":
+            collision = self.world.drive_heading(math.pi * float(self._box_action(action)[0]))
         else:
             left, right = self._box_action(action)
             collision = self.world.drive_wheels(float(left), float(right))
@@ -258,9 +266,9 @@ class HippoMazeEnv(gym.Env):
         return {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(heading), math.sin(heading)], np.float32)}
 
     def _info(self, collision: bool, success: bool) -> dict[str, Any]:
-        goal = (math.nan, math.nan) if self.goal is None else (float(self.goal[0]), float(self.goal[1]))
+        goal = np.full(2, math.nan) if self.goal is None else np.array(self.goal, dtype=np.float64)
         return {
-            "position": self._path[-1],
+            "position": np.array(self._path[-1], dtype=np.float64),
             "heading": self.world.heading,
             "goal": goal,
             "is_success": success,
@@ -287,7 +295,7 @@ class HippoMazeEnv(gym.Env):
             values = None
         ok = values is not None and bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
         if not ok:
-            meaning = "[heading in radians]" if self.action_type == "heading" else "[left, right] wheel speeds"
+            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(self.action_type, "[left, right] wheel speeds")
             raise ValueError(f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]")
         return values
 
