@@ -59,8 +59,9 @@ class HippoMazeEnv(gym.Env):
 
     ## Starting State
     The goal is drawn uniformly from the free space at least 0.5 m from every wall (or taken from
-    the maze file or ``options``). The start is drawn uniformly from the free space at least
-    1 m from the goal, facing a uniform random heading, unless ``options`` give it.
+    the ``goal`` or ``goal_seed`` argument, the maze file or ``options``). The start is drawn
+    uniformly from the free space at least 1 m from the goal, facing a uniform random heading,
+    unless ``options`` give it.
 
     ## Episode End
     Terminated when the robot reaches the goal. Truncated after ``max_episode_steps`` steps
@@ -83,6 +84,10 @@ class HippoMazeEnv(gym.Env):
     - ``action_type``: ``"discrete"``, ``"heading"``, ``"heading_normalized"`` or ``"wheels"``.
     - ``reward_type``: ``"sparse"`` or ``"dense"``.
     - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
+    - ``goal``: ``[x, y]``, the first day's goal; or ``goal_seed``: an integer from which the first
+      day's goal is drawn, whatever the reset seed. Two environments made with the same ``goal``
+      or ``goal_seed`` share their goal (e.g. a training and an evaluation env). Without either,
+      the maze's ``"goal"`` is used, else the first ``reset`` draws one with its seed.
     - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
 
     ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
@@ -110,6 +115,8 @@ class HippoMazeEnv(gym.Env):
         min_start_distance: float = 1.0,
         render_mode: str | None = None,
         render_rays: bool = False,
+        goal: Any = None,
+        goal_seed: int | None = None,
     ) -> None:
         if action_type not in ACTION_TYPES:
             raise ValueError(f"action_type {action_type!r} is unknown; choose one of {', '.join(ACTION_TYPES)}")
@@ -151,6 +158,7 @@ class HippoMazeEnv(gym.Env):
 
         if self.maze.goal is not None:
             self._check_goal(self.maze.goal, "the maze's goal")
+        self._first_goal = self._choose_first_goal(goal, goal_seed)
         self.goal: np.ndarray | None = None
         self._goal_set = False  # no goal chosen yet (the first reset chooses one)
         self._distance_field: tuple[np.ndarray, np.ndarray] | None = None
@@ -178,7 +186,7 @@ class HippoMazeEnv(gym.Env):
             self.goal = goal
             self._goal_set = True
         elif options.get("new_goal") or not self._goal_set:
-            self.goal = candidate if (options.get("new_goal") or self.maze.goal is None) else np.asarray(self.maze.goal, float)
+            self.goal = candidate if (options.get("new_goal") or self._first_goal is None) else self._first_goal.copy()
             self._goal_set = True
             self._distance_field = None
 
@@ -308,6 +316,18 @@ class HippoMazeEnv(gym.Env):
                 f"{self.maze.size[0]:g} x {self.maze.size[1]:g} m arena"
             )
         return point
+
+    def _choose_first_goal(self, goal: Any, goal_seed: Any) -> np.ndarray | None:
+        """The goal of the first day: the ``goal`` argument, one drawn with ``goal_seed``, the maze's, or None (drawn at reset)."""
+        if goal is not None and goal_seed is not None:
+            raise ValueError("give either goal=[x, y] or goal_seed=int, not both")
+        if goal is not None:
+            return self._check_goal(goal, "argument 'goal'")
+        if goal_seed is not None:
+            if not isinstance(goal_seed, (int, np.integer)) or isinstance(goal_seed, bool) or goal_seed < 0:
+                raise ValueError(f"goal_seed must be a non-negative integer, got {goal_seed!r}")
+            return self.maze.sample_free(np.random.default_rng(int(goal_seed)), GOAL_CLEARANCE)
+        return None if self.maze.goal is None else np.asarray(self.maze.goal, float)
 
     def _check_start(self, start: Any) -> np.ndarray:
         point = _as_xy(start, "reset option 'start'")
