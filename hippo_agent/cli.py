@@ -8,6 +8,7 @@ with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experimen
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -43,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
     dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
     dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
-    dmtp.add_argument("--seed", type=int, default=0, help="seeds goals, starts, environment and agents (default: 0)")
+    dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
     dmtp.add_argument("--agent", default="hippo", help="hippo, random, dqn, ppo, or module:Class (default: hippo)")
     dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures, new or empty (default: out)")
     dmtp.add_argument("--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there")
@@ -53,10 +54,10 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md")
+    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md", description=run_paper_command.__doc__)
     paper.add_argument("--out", default="paper_out", help="output folder (default: paper_out)")
     paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
-    paper.add_argument("--seed", type=int, default=0)
+    paper.add_argument("--seed", type=_seed, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
     paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
 
     args = parser.parse_args(argv)
@@ -79,6 +80,8 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
     from hippo_env.maze import MazeSpec
     from hippo_env.protocol import DMTPInterrupted, run_dmtp
 
+    if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
     maze = MazeSpec.load(args.maze)
     factory = agent_factory(args.agent)
     out = prepare_out_dir(Path(args.out), args.overwrite)  # before any work: never run, then fail to save
@@ -227,8 +230,20 @@ def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
     return grid
 
 
+def _seed(text: str) -> int:
+    """An argparse type: a seed is a non-negative integer (argparse names the option in its error)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}")
+    return value
+
+
 def run_paper_command(args: argparse.Namespace) -> int:
-    """Reproduce the paper's experiments (see benchmarks/paper.py)."""
+    """Reproduce the paper's experiments (see benchmarks/paper.py): the model's figures and tables, written
+    with REPORT.md and paper.json into --out. --quick runs every experiment briefly (about a minute)."""
     try:
         from benchmarks.paper import PaperArgs, run_paper
     except ImportError as err:

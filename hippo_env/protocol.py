@@ -13,9 +13,11 @@ An agent is any object with these methods (structural typing: no base class need
 
 ``prepare`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
 terminates) and may step and reset it as often as it likes; every one of those steps counts
-in ``env_steps_total``. The agent must not read ``info["position"]`` or ``info["goal"]`` if it
-claims to navigate from its senses; the runner does not hide them, so that privileged
-reference agents can be written too (label them so).
+in ``env_steps_total``. An agent that claims to navigate from its senses reads, of ``info``, only
+``is_success``, ``collision``, ``heading`` and ``sim_time``; not ``position``, ``goal``,
+``path_length``, ``shortest_path_length`` or ``indirectness``. The runner does not hide them,
+so that privileged reference agents can be written too (label them so). An agent class whose
+constructor has no ``seed`` keyword is built as ``MyAgent(observation_space, action_space)``.
 
 :func:`run_dmtp` runs the delayed-match-to-place protocol: ``trials`` days, each with a new
 goal, of ``runs`` runs each. Goals and starts are drawn by the runner from its own seeded

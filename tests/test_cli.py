@@ -175,3 +175,64 @@ def test_dmtp_json_is_written_atomically(tmp_path, monkeypatch):
         result.save(tmp_path)
     assert (tmp_path / "dmtp.json").read_text() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dmtp.json", "paths.npz"]
+
+
+# ---------------------------------------------------------------------- plugging in an agent
+class NoSeedAgent(ForwardAgent):
+    """A third-party agent whose constructor has no ``seed`` keyword."""
+
+    def __init__(self, observation_space, action_space):
+        self.steps = 0
+
+
+class NoSpacesAgent(ForwardAgent):
+    """A constructor that cannot take the two spaces."""
+
+    def __init__(self):
+        self.steps = 0
+
+
+def test_agent_without_seed_keyword_is_accepted(tmp_path):
+    out = tmp_path / "noseed"
+    assert main([*QUICK[:5], "--agent", "tests.test_cli:NoSeedAgent", *QUICK[7:], "--no-figures", "--out", str(out)]) == 0
+    assert json.loads((out / "dmtp.json").read_text())["agent"] == "tests.test_cli:NoSeedAgent"
+
+
+def test_agent_with_unusable_constructor_is_a_one_line_error(tmp_path, capsys):
+    code = main([*QUICK[:5], "--agent", "tests.test_cli:NoSpacesAgent", *QUICK[7:], "--out", str(tmp_path / "x")])
+    assert code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "must be __init__(self, observation_space, action_space, seed=None)" in err
+
+
+def test_agent_module_in_the_current_folder_is_found(tmp_path, monkeypatch):
+    """``--agent mymodule:MyAgent`` imports ./mymodule.py without PYTHONPATH=., as ``python -m`` would."""
+    (tmp_path / "my_local_agent_module.py").write_text(
+        "class Mine:\n"
+        "    def __init__(self, observation_space, action_space, seed=None): pass\n"
+        "    def reset(self, observation, info): pass\n"
+        "    def act(self, observation): return 2\n"
+        "    def observe(self, *args): pass\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [p for p in sys.path if p not in ("", str(tmp_path), ".")])
+    monkeypatch.delitem(sys.modules, "my_local_agent_module", raising=False)
+    assert main([*QUICK[:5], "--agent", "my_local_agent_module:Mine", *QUICK[7:], "--no-figures", "--out", "out"]) == 0
+    assert (tmp_path / "out" / "dmtp.json").exists()
+
+
+@pytest.mark.parametrize("command", [["dmtp"], ["paper"]])
+def test_negative_seed_names_the_option(command, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main([*command, "--seed", "-1"])
+    assert exit_.value.code == 2
+    assert "argument --seed: must be a non-negative integer, got '-1'" in capsys.readouterr().err
+
+
+def test_paper_help_describes_the_command_and_seed(capsys):
+    with pytest.raises(SystemExit):
+        main(["paper", "--help"])
+    printed = capsys.readouterr().out
+    assert "Reproduce the paper's experiments" in printed
+    assert "base seed" in printed
