@@ -13,6 +13,7 @@ from gymnasium import spaces
 
 from hippo_env import physics
 from hippo_env.maze import MazeSpec
+from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
 
 ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
@@ -21,6 +22,7 @@ RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
 GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
 START_CLEARANCE = physics.ROBOT_RADIUS + 0.05  # m from every wall, for random starts
 DENSE_GRID = 0.1  # m, cell of the distance field behind reward_type="dense"
+PATH_LIMIT = 100_000  # positions env.path keeps per run (the latest), by default: 1.6 MB
 
 
 class HippoMazeEnv(gym.Env):
@@ -89,6 +91,8 @@ class HippoMazeEnv(gym.Env):
       or ``goal_seed`` share their goal (e.g. a training and an evaluation env). Without either,
       the maze's ``"goal"`` is used, else the first ``reset`` draws one with its seed.
     - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
+    - ``path_limit`` (100,000): the most positions :attr:`path` keeps per run (the latest ones),
+      so that a goal-free run of any length uses bounded memory; ``None`` keeps them all.
 
     ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
     ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
@@ -117,6 +121,7 @@ class HippoMazeEnv(gym.Env):
         render_rays: bool = False,
         goal: Any = None,
         goal_seed: int | None = None,
+        path_limit: int | None = PATH_LIMIT,
     ) -> None:
         if action_type not in ACTION_TYPES:
             raise ValueError(f"action_type {action_type!r} is unknown; choose one of {', '.join(ACTION_TYPES)}")
@@ -163,7 +168,7 @@ class HippoMazeEnv(gym.Env):
         self._goal_set = False  # no goal chosen yet (the first reset chooses one)
         self._distance_field: tuple[np.ndarray, np.ndarray] | None = None
         self._ranges = np.zeros(self.rangefinder.n_rays)
-        self._path: list[tuple[float, float]] = []
+        self._path = PathRecord(path_limit)
         self._path_length = 0.0
         self._shortest = math.nan
         self._elapsed = 0
@@ -200,7 +205,7 @@ class HippoMazeEnv(gym.Env):
             if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
                 raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
         self.world.reset(start, float(heading))
-        self._path = [self.world.position]
+        self._path.reset(self.world.position)
         self._path_length = 0.0
         self._elapsed = 0
         self._shortest = self._shortest_path(start)
@@ -261,8 +266,11 @@ class HippoMazeEnv(gym.Env):
 
     @property
     def path(self) -> np.ndarray:
-        """Positions since the last reset, one row per step (the start first)."""
-        return np.asarray(self._path).reshape(-1, 2)
+        """Positions since the last reset, one row per step (the start first), as a new array.
+
+        At most ``path_limit`` rows: a longer run keeps its latest positions.
+        """
+        return self._path.array()
 
     # ------------------------------------------------------------------ internals
     def _observe(self) -> dict[str, np.ndarray]:
