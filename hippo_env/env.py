@@ -345,8 +345,12 @@ class HippoMazeEnv(gym.Env):
                 f"reset option 'start' ({point[0]:g}, {point[1]:g}) puts the robot inside or against a wall: "
                 f"its centre needs clearance of at least {needed:g} m from every wall"
             )
-        if self.goal is not None and np.linalg.norm(point - self.goal) < self.goal_radius:
-            raise ValueError(f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk; start at least {self.goal_radius} m from the goal {tuple(self.goal)}")
+        # On the disk's edge the shortest path would be 0 m and a successful run's indirectness undefined.
+        if self.goal is not None and np.linalg.norm(point - self.goal) <= self.goal_radius:
+            raise ValueError(
+                f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk or on its edge; "
+                f"start more than {self.goal_radius} m from the goal ({self.goal[0]:g}, {self.goal[1]:g})"
+            )
         return point
 
     def _shortest_path(self, start: np.ndarray) -> float:

@@ -245,3 +245,13 @@ def test_reset_raises_when_no_geodesic_can_be_computed(monkeypatch):
     with pytest.raises(ValueError, match="no shortest path could be computed from the start"):
         env.reset(seed=0, options={"goal": [3.0, 3.0]})
     env.close()
+
+
+def test_a_start_on_the_goal_disks_edge_is_refused():
+    """There the shortest path is 0 m, so a successful run's indirectness would be undefined (None in the record)."""
+    env = gym.make("HippoMaze-v0", maze="open", n_rays=8, goal_radius=0.5)
+    with pytest.raises(ValueError, match="inside the goal disk or on its edge; start more than 0.5 m from the goal"):
+        env.reset(seed=0, options={"goal": [1.0, 1.0], "start": [1.5, 1.0]})
+    _, info = env.reset(seed=0, options={"goal": [1.0, 1.0], "start": [1.51, 1.0]})
+    assert info["shortest_path_length"] > 0
+    env.close()
