@@ -388,8 +388,11 @@ def _points_segments_distance(points: np.ndarray, segments: np.ndarray) -> np.nd
 
 def _segments_distance(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray) -> np.ndarray:
     """Distance between each segment p0[k]-p1[k] and each wall (0 where they cross): shape (K, M)."""
-    a, b = walls[None, :, :2], walls[None, :, 2:]
-    p, q = p0[:, None, :], p1[:, None, :]
+    return _pair_distance(p0[:, None, :], p1[:, None, :], walls[None, :, :2], walls[None, :, 2:])
+
+
+def _pair_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance between segments p-q and a-b (0 where they cross), broadcasting over leading axes."""
 
     def cross(o, u, v):
         return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
@@ -407,14 +410,23 @@ def _point_to_segments(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.n
 
 
 def _visible_many(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray, radius: float) -> np.ndarray:
-    """Whether each segment p0[k]-p1[k] keeps at least ``radius`` from every wall (in bounded chunks)."""
+    """Whether each segment p0[k]-p1[k] keeps at least ``radius`` from every wall.
+
+    Only walls whose bounding box comes within ``radius`` of a segment's bounding box can be
+    nearer than ``radius``; the exact distance is computed for those pairs only, in bounded chunks.
+    """
     seen = np.ones(len(p0), dtype=bool)
     if len(walls) == 0:
         return seen
+    low, high = np.minimum(p0, p1) - radius, np.maximum(p0, p1) + radius
+    wall_low, wall_high = np.minimum(walls[:, :2], walls[:, 2:]), np.maximum(walls[:, :2], walls[:, 2:])
     step = max(1, _CHUNK // len(walls))
     for start in range(0, len(p0), step):
         part = slice(start, start + step)
-        seen[part] = _segments_distance(p0[part], p1[part], walls).min(axis=1) >= radius
+        near = np.all(low[part, None] <= wall_high[None], axis=-1) & np.all(wall_low[None] <= high[part, None], axis=-1)
+        pair, wall = np.nonzero(near)
+        close = _pair_distance(p0[part][pair], p1[part][pair], walls[wall, :2], walls[wall, 2:]) < radius
+        seen[start + pair[close]] = False
     return seen
 
 
