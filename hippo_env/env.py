@@ -102,7 +102,9 @@ class HippoMazeEnv(gym.Env):
     part of the state, as DMTP requires.
 
     ## Version History
-    - v0: first version.
+    - v0: first version. Since then, info ``position`` and ``goal`` are float arrays (were tuples:
+      compare them with ``np.array_equal``), and added: ``action_type="heading_normalized"``, the
+      ``goal``, ``goal_seed`` and ``path_limit`` arguments.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
