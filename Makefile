@@ -19,7 +19,7 @@ $(STAMP): $(PY) pyproject.toml
 install: $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/hippomaze dmtp --maze open --trials 5 --runs 4 --seed 0 --agent hippo --out demo_out
+	$(VENV)/bin/hippomaze dmtp --maze open --trials 5 --runs 4 --seed 0 --agent hippo --out demo_out --overwrite
 
 test: $(STAMP)
 	$(PY) -m pytest -q
