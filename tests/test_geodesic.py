@@ -233,7 +233,7 @@ def test_no_successful_run_is_shorter_than_the_geodesic():
             arrived += 1
             assert info["path_length"] >= info["shortest_path_length"] - 1e-9
             assert math.isfinite(info["indirectness"]) and info["indirectness"] >= 0
-    assert arrived >= 4
+    assert arrived >= 6  # 8 of 8 arrive as written
 
 
 
