@@ -13,13 +13,13 @@ $(PY):
 # torch==2.13.0 first: it is the local CPU build; a bare torch requirement would pull CUDA wheels.
 $(STAMP): $(PY) pyproject.toml
 	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e ".[baselines,ray,dev]"
+	$(PY) -m pip install --quiet -e ".[baselines,ray,dev,video]"
 	touch $(STAMP)
 
 install: $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/hippomaze dmtp --maze open --trials 5 --runs 4 --seed 0 --agent hippo --out demo_out
+	$(VENV)/bin/hippomaze dmtp --maze open --trials 5 --runs 4 --seed 0 --agent hippo --out demo_out --overwrite
 
 test: $(STAMP)
 	$(PY) -m pytest -q

@@ -11,6 +11,7 @@ the hippocampal model) happen only when a factory is called.
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 from dataclasses import fields, replace
 from typing import Any
@@ -84,18 +85,43 @@ def _dynaq(**overrides: Any) -> Factory:
     return make
 
 
+def _takes_seed(name: str, cls: type, overrides: dict[str, Any]) -> bool:
+    """Whether ``cls(observation_space, action_space, seed=..., **overrides)`` fits its constructor.
+
+    A constructor without ``seed`` is accepted (the agent is then seeded only by what it does
+    itself); one that cannot take the two spaces is a one-line ``ValueError`` naming the expected signature.
+    """
+    try:
+        signature = inspect.signature(cls)
+    except (TypeError, ValueError):  # no introspectable signature: assume the documented one
+        return True
+    for with_seed in (True, False):
+        try:
+            signature.bind(None, None, **({"seed": 0} if with_seed else {}), **overrides)
+        except TypeError:
+            continue
+        return with_seed
+    extra = f", {', '.join(f'{k}=...' for k in overrides)}" if overrides else ""
+    raise ValueError(
+        f"agent {name!r}: {cls.__name__}{signature} cannot be built as {cls.__name__}(observation_space, action_space, seed=seed{extra}); "
+        "an agent class's constructor must be __init__(self, observation_space, action_space, seed=None)"
+    )
+
+
 def agent_factory(name: str, **overrides: Any) -> Factory:
     """A factory ``factory(observation_space, action_space, seed) -> agent`` for the agent ``name``.
 
     Args:
         name: ``hippo``, ``random``, ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
             or ``module:Class`` for any class following the Agent protocol (built as
-            ``Class(observation_space, action_space, seed=seed, **overrides)``).
+            ``Class(observation_space, action_space, seed=seed, **overrides)``, or without
+            ``seed`` if its constructor takes none).
         **overrides: Parameters to change: fields of ``hippo_agent.AgentConfig`` for ``hippo``, of
             :mod:`baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
 
     Raises:
-        ValueError: An unknown name (the message lists the allowed ones) or parameter.
+        ValueError: An unknown name (the message lists the allowed ones) or parameter, or a
+            ``module:Class`` whose constructor cannot take ``(observation_space, action_space)``.
     """
     if not isinstance(name, str):
         raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")  # noqa: TRY004
@@ -109,9 +135,12 @@ def agent_factory(name: str, **overrides: Any) -> Factory:
         return _dynaq(**overrides)
     if ":" in name:
         cls = load_agent_class(name)
+        takes_seed = _takes_seed(name, cls, overrides)
 
         def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
-            return cls(observation_space, action_space, seed=seed, **overrides)
+            if takes_seed:
+                return cls(observation_space, action_space, seed=seed, **overrides)
+            return cls(observation_space, action_space, **overrides)
 
         return make
     hint = " (dense reward is an env setting: reward_type='dense', not an agent)" if name.endswith("-dense") else ""

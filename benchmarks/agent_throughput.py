@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
-import json
 import resource
 import time
 from dataclasses import dataclass
@@ -128,5 +127,5 @@ record = {
 }
 out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
 out.parent.mkdir(parents=True, exist_ok=True)
-out.write_text(json.dumps(record, indent=1) + "\n")
+hippo_env.write_json(out, record)
 print(f"wrote {out}")

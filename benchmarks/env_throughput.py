@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
-import json
 import statistics
 import time
 from dataclasses import dataclass
@@ -155,6 +154,6 @@ record = {
 }
 out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
 out.parent.mkdir(parents=True, exist_ok=True)
-out.write_text(json.dumps(record, indent=1) + "\n")
+hippo_env.write_json(out, record)
 slowest = record["min_steps_per_second_720_rays"]
 print(f"wrote {out}" + (f"; slowest maze at 720 rays: {slowest:,} steps/s (target {args.target:,.0f})" if slowest else ""))

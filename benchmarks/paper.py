@@ -1439,7 +1439,7 @@ def write_outputs(requested: PaperArgs, results: dict[str, Any], seconds: dict[s
         "report": report.name,
     }
     paper = _jsonable(paper)
-    (out / "paper.json").write_text(json.dumps(paper, indent=1) + "\n")
+    hippo_env.atomic_write(out / "paper.json", json.dumps(paper, indent=1) + "\n")
     if args.progress:
         print(f"wrote {report} and {out / 'paper.json'} ({len(figures)} figures) in {wall / 60:.1f} min")
     return paper

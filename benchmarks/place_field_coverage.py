@@ -11,14 +11,13 @@ arena where it fires (rate > 0) and where it fires above half its peak.
 from __future__ import annotations
 
 import datetime
-import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 
-import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+import hippo_env  # registers HippoMaze-v0
 from benchmarks.common import REPO, command_line, machine_info, parse_dataclass_args
 from hippo_agent import HippocampalAgent
 from hippo_agent.plots import grid_positions
@@ -78,5 +77,5 @@ record = {
 }
 out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
 out.parent.mkdir(parents=True, exist_ok=True)
-out.write_text(json.dumps(record, indent=1) + "\n")
+hippo_env.write_json(out, record)
 print(f"wrote {out}")

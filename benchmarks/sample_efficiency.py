@@ -57,6 +57,7 @@ from typing import Any
 import numpy as np
 
 from benchmarks.common import parse_dataclass_args
+from hippo_env.files import atomic_write, write_json
 
 REPO = Path(__file__).resolve().parent.parent
 LEARNERS = ("random", "dqn", "ppo", "dynaq")  # one long day with a step budget
@@ -384,10 +385,7 @@ def job_path(out: Path, job: Job, sweep: bool = False) -> Path:
 
 def save_record(path: Path, record: dict[str, Any]) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    with gzip.open(tmp, "wt") as fh:
-        json.dump(record, fh, separators=(",", ":"))
-    os.replace(tmp, path)
+    atomic_write(path, gzip.compress(json.dumps(record, separators=(",", ":")).encode("utf-8")))
 
 
 def load_record(path: Path) -> dict[str, Any] | None:
@@ -919,14 +917,14 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         return {"meta": meta, "records": records}
     if args.sweep:
         summary = {**meta, **sweep_summary(records, args)}
-        (out / "sample_efficiency_sweep.json").write_text(json.dumps(summary, indent=1) + "\n")
+        write_json(out / "sample_efficiency_sweep.json", summary)
         print(json.dumps(summary["rows"], indent=1))
         return summary
     summary = {**meta, **analyse({j.name: records[j.name] for j in jobs}, args)}
     summary["headline_markdown"] = headline_markdown(summary)
     summary["switch_markdown"] = switch_markdown(summary)
     stem = "sample_efficiency_quick" if args.quick else "sample_efficiency"
-    (out / f"{stem}.json").write_text(json.dumps(summary, indent=1) + "\n")
+    write_json(out / f"{stem}.json", summary)
     plot_curves(summary, out / f"{stem}.png")
     plot_switch(summary, out / f"{stem}_goal_switch.png")
     print(summary["headline_markdown"])

@@ -8,13 +8,29 @@ with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experimen
 from __future__ import annotations
 
 import argparse
-import json
+import os
 import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from hippo_env.env import ACTION_TYPES
+from hippo_env.files import write_json
+
+# What `hippomaze dmtp` writes into its --out folder (cleared by --overwrite, nothing else is).
+DMTP_OUTPUTS = (
+    "dmtp.json",
+    "paths.npz",
+    "summary.json",
+    "indirectness.png",
+    "run1_length_vs_run2_indirectness.png",
+    "paths_trial*.png",
+    "reward_map_after_run1.png",
+    "place_fields.png",
+)
+# Exit status after Ctrl-C, as a shell reports a process ended by SIGINT.
+EXIT_INTERRUPTED = 130
 # Analysis maps sample at most this many positions (each costs a place-cell settle).
 MAX_MAP_POSITIONS = 2500
 EXAMPLE_PLACE_CELLS = 6
@@ -28,19 +44,20 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
     dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
     dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
-    dmtp.add_argument("--seed", type=int, default=0, help="seeds goals, starts, environment and agents (default: 0)")
+    dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
     dmtp.add_argument("--agent", default="hippo", help="hippo, random, dqn, ppo, or module:Class (default: hippo)")
-    dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures (default: out)")
+    dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures, new or empty (default: out)")
+    dmtp.add_argument("--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there")
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
     dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
-    dmtp.add_argument("--action-type", default="discrete", choices=("discrete", "heading", "wheels"), help="the action space (default: discrete)")
+    dmtp.add_argument("--action-type", default="discrete", choices=ACTION_TYPES, help="the action space (default: discrete)")
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md")
+    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md", description=run_paper_command.__doc__)
     paper.add_argument("--out", default="paper_out", help="output folder (default: paper_out)")
     paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
-    paper.add_argument("--seed", type=int, default=0)
+    paper.add_argument("--seed", type=_seed, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
     paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
 
     args = parser.parse_args(argv)
@@ -51,6 +68,9 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as err:
         print(f"hippomaze: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("hippomaze: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
@@ -58,34 +78,76 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
     from baselines.registry import agent_factory
     from hippo_agent.report import format_table, write_dmtp_figures
     from hippo_env.maze import MazeSpec
-    from hippo_env.protocol import run_dmtp
+    from hippo_env.protocol import DMTPInterrupted, run_dmtp
 
+    if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
     maze = MazeSpec.load(args.maze)
     factory = agent_factory(args.agent)
-    out = Path(args.out)
+    out = prepare_out_dir(Path(args.out), args.overwrite)  # before any work: never run, then fail to save
     maps: dict[str, Any] = {}
-    result = run_dmtp(
-        factory,
-        maze,
-        trials=args.trials,
-        runs=args.runs,
-        seed=args.seed,
-        agent_name=args.agent,
-        same_start=args.same_start,
-        env_kwargs={"action_type": args.action_type},
-        max_episode_steps=args.max_steps,
-        progress=not args.no_progress,
-        on_run_end=None if args.no_figures else _collect_maps(maps),
-    )
+    try:
+        result = run_dmtp(
+            factory,
+            maze,
+            trials=args.trials,
+            runs=args.runs,
+            seed=args.seed,
+            agent_name=args.agent,
+            same_start=args.same_start,
+            env_kwargs={"action_type": args.action_type},
+            max_episode_steps=args.max_steps,
+            progress=not args.no_progress,
+            on_run_end=None if args.no_figures else _collect_maps(maps),
+        )
+    except DMTPInterrupted as interrupt:
+        partial = interrupt.result
+        path = partial.save(out)
+        print(
+            f"hippomaze: interrupted; saved the {len(partial.episodes)} finished runs of {partial.trials * partial.runs} "
+            f"to {path} (marked \"complete\": false)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERRUPTED
     path = result.save(out)
+    write_json(out / "summary.json", result.summary())
     print(format_table(result))
     print(f"wrote {path}")
     if not args.no_figures:
-        written = write_dmtp_figures(result, maze, out)
-        written += _write_agent_maps(maps, result, maze, out)
+        try:
+            written = write_dmtp_figures(result, maze, out)
+            written += _write_agent_maps(maps, result, maze, out)
+        except KeyboardInterrupt:
+            print(f"hippomaze: interrupted while drawing figures; the complete {path} was saved", file=sys.stderr)
+            return EXIT_INTERRUPTED
         print(f"wrote {len(written)} figures to {out}/")
-    (out / "summary.json").write_text(json.dumps(result.summary(), indent=1) + "\n")
     return 0
+
+
+def prepare_out_dir(out: Path, overwrite: bool) -> Path:
+    """Check (and create) the output folder before any work starts.
+
+    A file in the way, or a folder already holding files, is a ``ValueError``, unless
+    ``overwrite``: then the files an earlier ``hippomaze dmtp`` wrote there are deleted first
+    (and only those), so no stale figure sits beside the new ones.
+    """
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {str(out)!r} is a file; give a folder (new or empty) for dmtp.json and its figures")
+    if out.is_dir() and any(out.iterdir()):
+        if not overwrite:
+            found = sorted(p.name for p in out.iterdir())
+            shown = ", ".join(found[:4]) + (", ..." if len(found) > 4 else "")
+            raise ValueError(f"--out {str(out)!r} is not empty ({shown}); give a new or empty folder, or add --overwrite to replace an earlier run's results")
+        stale = sorted({p for pattern in DMTP_OUTPUTS for p in out.glob(pattern) if p.is_file()})
+        for p in stale:
+            p.unlink()
+        if stale:
+            print(f"hippomaze: --overwrite: deleted {len(stale)} files of an earlier run from {out}/", file=sys.stderr)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise ValueError(f"--out {str(out)!r} cannot be created ({err.strerror or err}); give a writable folder") from err
+    return out
 
 
 def _collect_maps(maps: dict[str, Any]):
@@ -168,8 +230,20 @@ def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
     return grid
 
 
+def _seed(text: str) -> int:
+    """An argparse type: a seed is a non-negative integer (argparse names the option in its error)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}")
+    return value
+
+
 def run_paper_command(args: argparse.Namespace) -> int:
-    """Reproduce the paper's experiments (see benchmarks/paper.py)."""
+    """Reproduce the paper's experiments (see benchmarks/paper.py): the model's figures and tables, written
+    with REPORT.md and paper.json into --out. --quick runs every experiment briefly (about a minute)."""
     try:
         from benchmarks.paper import PaperArgs, run_paper
     except ImportError as err:

@@ -11,9 +11,10 @@
 from gymnasium.envs.registration import WrapperSpec, register, registry
 
 from hippo_env.env import HippoMazeEnv
+from hippo_env.files import atomic_write, write_json
 from hippo_env.maze import BUILTIN_MAZES, MazeSpec
 
-__all__ = ["BUILTIN_MAZES", "HippoMazeEnv", "MazeSpec"]
+__all__ = ["BUILTIN_MAZES", "HippoMazeEnv", "MazeSpec", "atomic_write", "write_json"]
 __version__ = "0.1.0"
 
 if "HippoMaze-v0" not in registry:

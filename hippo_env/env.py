@@ -13,15 +13,17 @@ from gymnasium import spaces
 
 from hippo_env import physics
 from hippo_env.maze import MazeSpec
+from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
 
-ACTION_TYPES = ("discrete", "heading", "wheels")
+ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
 RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
 GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
 START_CLEARANCE = physics.ROBOT_RADIUS + 0.05  # m from every wall, for random starts
 DENSE_GRID = 0.1  # m, cell of the distance field behind reward_type="dense"
 ODOMETRY_BOUND = 2 * physics.MAX_SPEED * physics.CONTROL_DT  # m, twice a full step: room for noise
+PATH_LIMIT = 100_000  # positions env.path keeps per run (the latest), by default: 1.6 MB
 
 
 class HippoMazeEnv(gym.Env):
@@ -39,6 +41,9 @@ class HippoMazeEnv(gym.Env):
       to the allocentric heading ``k * pi / 4`` (0 = +x, counter-clockwise) and drives it
       straight at 0.5 m/s for one control step of 0.3 s (0.15 m, less if a wall is in the way).
     - ``"heading"``: ``Box(-pi, pi, (1,))``, the allocentric heading to turn to, then one step as above.
+    - ``"heading_normalized"``: ``Box(-1, 1, (1,))``, the same heading in units of pi radians (one
+      unit = pi rad = 180 degrees: 0 = +x, 0.5 = +y, +-1 = -x), the symmetric normalised Box that
+      RL libraries expect; otherwise as ``"heading"``.
     - ``"wheels"``: ``Box(-1, 1, (2,))``, left and right wheel speeds as fractions of 0.5 m/s,
       held for one control step.
     An action outside the space raises ``ValueError``.
@@ -57,8 +62,9 @@ class HippoMazeEnv(gym.Env):
 
     ## Starting State
     The goal is drawn uniformly from the free space at least 0.5 m from every wall (or taken from
-    the maze file or ``options``). The start is drawn uniformly from the free space at least
-    1 m from the goal, facing a uniform random heading, unless ``options`` give it.
+    the ``goal`` or ``goal_seed`` argument, the maze file or ``options``). The start is drawn
+    uniformly from the free space at least 1 m from the goal, facing a uniform random heading,
+    unless ``options`` give it.
 
     ## Episode End
     Terminated when the robot reaches the goal. Truncated after ``max_episode_steps`` steps
@@ -66,7 +72,8 @@ class HippoMazeEnv(gym.Env):
     ``TimeLimit`` wrapper that ``gym.make`` adds (and ``EpisodeEndInfo`` then adds ``indirectness``).
 
     ## Info
-    Every step: ``position`` (x, y), ``heading`` (rad), ``goal`` (x, y), ``is_success``,
+    Every step: ``position`` and ``goal``, each a float array ``[x, y]`` of shape (2,) (so vector
+    environments stack them as (n, 2) floats), ``heading`` (rad), ``is_success``,
     ``path_length`` (m since reset), ``shortest_path_length`` (m, geodesic from the episode's
     start to the goal disk's edge around obstacles inflated by the robot's radius),
     ``collision`` (a wall blocked the robot this step) and ``sim_time`` (simulated seconds since
@@ -80,10 +87,16 @@ class HippoMazeEnv(gym.Env):
     - ``heading_noise`` (0.0 rad): the compass.
     - ``odometry`` (False): add the wheel-odometry observation; ``odometry_noise`` (0.0, a fraction
       of the distance moved).
-    - ``action_type``: ``"discrete"``, ``"heading"`` or ``"wheels"``.
+    - ``action_type``: ``"discrete"``, ``"heading"``, ``"heading_normalized"`` or ``"wheels"``.
     - ``reward_type``: ``"sparse"`` or ``"dense"``.
     - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
+    - ``goal``: ``[x, y]``, the first day's goal; or ``goal_seed``: an integer from which the first
+      day's goal is drawn, whatever the reset seed. Two environments made with the same ``goal``
+      or ``goal_seed`` share their goal (e.g. a training and an evaluation env). Without either,
+      the maze's ``"goal"`` is used, else the first ``reset`` draws one with its seed.
     - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
+    - ``path_limit`` (100,000): the most positions :attr:`path` keeps per run (the latest ones),
+      so that a goal-free run of any length uses bounded memory; ``None`` keeps them all.
 
     ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
     ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
@@ -93,8 +106,10 @@ class HippoMazeEnv(gym.Env):
     part of the state, as DMTP requires.
 
     ## Version History
-    - v0: first version; the opt-in ``odometry`` observation and ``heading_noise`` were added later
-      (the default observation is unchanged).
+    - v0: first version. Since then, info ``position`` and ``goal`` are float arrays (were tuples:
+      compare them with ``np.array_equal``), and added: ``action_type="heading_normalized"``, the
+      ``goal``, ``goal_seed`` and ``path_limit`` arguments. Also added: the opt-in ``odometry`` observation
+      (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
@@ -114,6 +129,9 @@ class HippoMazeEnv(gym.Env):
         odometry: bool = False,
         odometry_noise: float = 0.0,
         heading_noise: float = 0.0,
+        goal: Any = None,
+        goal_seed: int | None = None,
+        path_limit: int | None = PATH_LIMIT,
     ) -> None:
         if action_type not in ACTION_TYPES:
             raise ValueError(f"action_type {action_type!r} is unknown; choose one of {', '.join(ACTION_TYPES)}")
@@ -155,16 +173,19 @@ class HippoMazeEnv(gym.Env):
             self.action_space: spaces.Space = spaces.Discrete(8)
         elif action_type == "heading":
             self.action_space = spaces.Box(-math.pi, math.pi, (1,), np.float32)
+        elif action_type == "heading_normalized":
+            self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
         else:
             self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
 
         if self.maze.goal is not None:
             self._check_goal(self.maze.goal, "the maze's goal")
+        self._first_goal = self._choose_first_goal(goal, goal_seed)
         self.goal: np.ndarray | None = None
         self._goal_set = False  # no goal chosen yet (the first reset chooses one)
         self._distance_field: tuple[np.ndarray, np.ndarray] | None = None
         self._ranges = np.zeros(self.rangefinder.n_rays)
-        self._path: list[tuple[float, float]] = []
+        self._path = PathRecord(path_limit)
         self._path_length = 0.0
         self._shortest = math.nan
         self._elapsed = 0
@@ -187,7 +208,7 @@ class HippoMazeEnv(gym.Env):
             self.goal = goal
             self._goal_set = True
         elif options.get("new_goal") or not self._goal_set:
-            self.goal = candidate if (options.get("new_goal") or self.maze.goal is None) else np.asarray(self.maze.goal, float)
+            self.goal = candidate if (options.get("new_goal") or self._first_goal is None) else self._first_goal.copy()
             self._goal_set = True
             self._distance_field = None
 
@@ -201,7 +222,7 @@ class HippoMazeEnv(gym.Env):
             if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
                 raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
         self.world.reset(start, float(heading))
-        self._path = [self.world.position]
+        self._path.reset(self.world.position)
         self._path_length = 0.0
         self._elapsed = 0
         self._shortest = self._shortest_path(start)
@@ -216,6 +237,8 @@ class HippoMazeEnv(gym.Env):
             collision = self.world.drive_heading(self._discrete_action(action) * math.pi / 4)
         elif self.action_type == "heading":
             collision = self.world.drive_heading(float(self._box_action(action)[0]))
+        elif self.action_type == "heading_normalized":
+            collision = self.world.drive_heading(math.pi * float(self._box_action(action)[0]))
         else:
             left, right = self._box_action(action)
             collision = self.world.drive_wheels(float(left), float(right))
@@ -260,8 +283,11 @@ class HippoMazeEnv(gym.Env):
 
     @property
     def path(self) -> np.ndarray:
-        """Positions since the last reset, one row per step (the start first)."""
-        return np.asarray(self._path).reshape(-1, 2)
+        """Positions since the last reset, one row per step (the start first), as a new array.
+
+        At most ``path_limit`` rows: a longer run keeps its latest positions.
+        """
+        return self._path.array()
 
     # ------------------------------------------------------------------ internals
     def _observe(self, moved: tuple[float, float]) -> dict[str, np.ndarray]:
@@ -282,9 +308,9 @@ class HippoMazeEnv(gym.Env):
         return observation
 
     def _info(self, collision: bool, success: bool) -> dict[str, Any]:
-        goal = (math.nan, math.nan) if self.goal is None else (float(self.goal[0]), float(self.goal[1]))
+        goal = np.full(2, math.nan) if self.goal is None else np.array(self.goal, dtype=np.float64)
         return {
-            "position": self._path[-1],
+            "position": np.array(self._path[-1], dtype=np.float64),
             "heading": self.world.heading,
             "goal": goal,
             "is_success": success,
@@ -311,7 +337,7 @@ class HippoMazeEnv(gym.Env):
             values = None
         ok = values is not None and bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
         if not ok:
-            meaning = "[heading in radians]" if self.action_type == "heading" else "[left, right] wheel speeds"
+            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(self.action_type, "[left, right] wheel speeds")
             raise ValueError(f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]")
         return values
 
@@ -325,6 +351,18 @@ class HippoMazeEnv(gym.Env):
             )
         return point
 
+    def _choose_first_goal(self, goal: Any, goal_seed: Any) -> np.ndarray | None:
+        """The goal of the first day: the ``goal`` argument, one drawn with ``goal_seed``, the maze's, or None (drawn at reset)."""
+        if goal is not None and goal_seed is not None:
+            raise ValueError("give either goal=[x, y] or goal_seed=int, not both")
+        if goal is not None:
+            return self._check_goal(goal, "argument 'goal'")
+        if goal_seed is not None:
+            if not isinstance(goal_seed, (int, np.integer)) or isinstance(goal_seed, bool) or goal_seed < 0:
+                raise ValueError(f"goal_seed must be a non-negative integer, got {goal_seed!r}")
+            return self.maze.sample_free(np.random.default_rng(int(goal_seed)), GOAL_CLEARANCE)
+        return None if self.maze.goal is None else np.asarray(self.maze.goal, float)
+
     def _check_start(self, start: Any) -> np.ndarray:
         point = _as_xy(start, "reset option 'start'")
         needed = physics.ROBOT_RADIUS + physics.SKIN  # the robot and its bumper
@@ -333,14 +371,30 @@ class HippoMazeEnv(gym.Env):
                 f"reset option 'start' ({point[0]:g}, {point[1]:g}) puts the robot inside or against a wall: "
                 f"its centre needs clearance of at least {needed:g} m from every wall"
             )
-        if self.goal is not None and np.linalg.norm(point - self.goal) < self.goal_radius:
-            raise ValueError(f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk; start at least {self.goal_radius} m from the goal {tuple(self.goal)}")
+        # On the disk's edge the shortest path would be 0 m and a successful run's indirectness undefined.
+        if self.goal is not None and np.linalg.norm(point - self.goal) <= self.goal_radius:
+            raise ValueError(
+                f"reset option 'start' ({point[0]:g}, {point[1]:g}) lies inside the goal disk or on its edge; "
+                f"start more than {self.goal_radius} m from the goal ({self.goal[0]:g}, {self.goal[1]:g})"
+            )
         return point
 
     def _shortest_path(self, start: np.ndarray) -> float:
+        """The geodesic from ``start`` to the goal disk's edge; a clear error if there is none.
+
+        Every start and goal the environment accepts lies in one connected free space, so an
+        infinite geodesic is a defect: it is raised here rather than recorded as a missing value.
+        """
         if self.goal is None:
             return math.nan
-        return max(self.maze.geodesic(start, self.goal, physics.ROBOT_RADIUS) - self.goal_radius, 0.0)
+        length = self.maze.geodesic(start, self.goal, physics.ROBOT_RADIUS)
+        if not math.isfinite(length):
+            raise ValueError(
+                f"maze {self.maze.name!r}: no shortest path could be computed from the start ({start[0]:g}, {start[1]:g}) "
+                f"to the goal ({self.goal[0]:g}, {self.goal[1]:g}) for a robot of radius {physics.ROBOT_RADIUS} m; "
+                "please report this maze, or move the start or goal away from narrow gaps"
+            )
+        return max(length - self.goal_radius, 0.0)
 
     def _distance_to_goal(self, position: np.ndarray) -> float:
         """Geodesic distance to the goal, read off a grid distance field built once per goal."""

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numba import njit
 
 from hippo_env.sensors import _clearance
 
@@ -27,6 +28,13 @@ BUILTIN_MAZES = ("open", "maze1", "maze2", "maze3", "maze4")
 _ARC_STEP = math.radians(15.0)
 # Visibility segments may graze an inflated obstacle by this much (chords of those arcs).
 _GRAZE = 3e-3
+#: The largest arena side, in metres. The connectivity check rasterises the free space at 5 cm,
+#: so its cost grows with the arena's area; this bound keeps it under a second and ~100 MB.
+MAX_SIZE = 100.0
+#: The grid on which :meth:`MazeSpec.check_connected` finds the free space's parts (metres).
+CONNECTIVITY_RESOLUTION = 0.05
+# Work on at most this many (point, segment) or (pair, wall) combinations at once.
+_CHUNK = 1 << 18
 
 
 def _builtin_names() -> str:
@@ -57,6 +65,8 @@ class MazeSpec:
         size = _as_point(self.size, f"maze {self.name!r}: 'size'")
         if size[0] <= 0 or size[1] <= 0:
             raise ValueError(f"maze {self.name!r}: 'size' must be two positive numbers [width, height], got {list(size)}")
+        if max(size) > MAX_SIZE:
+            raise ValueError(f"maze {self.name!r}: 'size' {list(size)} is too large; width and height may be at most {MAX_SIZE:g} m (hippo_env.maze.MAX_SIZE)")
         object.__setattr__(self, "size", size)
         polygons = []
         if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
@@ -174,8 +184,12 @@ class MazeSpec:
         raise ValueError(f"maze {self.name!r}: found no free point with clearance {clearance} m (and {min_distance} m from {away_from}) in {tries} tries")
 
     # ------------------------------------------------------------------ connectivity and geodesics
-    def check_connected(self, radius: float, resolution: float = 0.05) -> None:
-        """Raise ValueError when the free space of a disc of ``radius`` falls into several parts."""
+    def check_connected(self, radius: float, resolution: float = CONNECTIVITY_RESOLUTION) -> None:
+        """Raise ValueError when the free space of a disc of ``radius`` falls into several parts.
+
+        The free space is rasterised at ``resolution``; work and memory grow with the arena's
+        area (at most ``MAX_SIZE`` squared), not with the number of walls times the area.
+        """
         labels, n = self._free_components(radius, resolution)
         if n == 0:
             raise ValueError(f"maze {self.name!r} has no free space for a robot of radius {radius} m")
@@ -187,17 +201,32 @@ class MazeSpec:
                 "leave gaps of at least the robot's diameter between obstacles"
             )
 
-    def _free_components(self, radius: float, resolution: float) -> tuple[np.ndarray, int]:
+    def free_grid(self, radius: float, resolution: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Cell centres ``xs``, ``ys`` over the arena and ``free[row, col]``: whether a disc of ``radius`` fits there.
+
+        Each wall only visits the cells within ``radius`` of its bounding box, and each obstacle
+        the cells of its bounding box, so the cost is the grid itself plus the walls' surroundings.
+        """
         hw, hh = self.half_extent
-        xs = np.arange(-hw + resolution / 2, hw, resolution)
-        ys = np.arange(-hh + resolution / 2, hh, resolution)
-        gx, gy = np.meshgrid(xs, ys, indexing="xy")
-        points = np.stack([gx.ravel(), gy.ravel()], axis=1)
-        distance = _points_segments_distance(points, self._segments)
-        inside = np.zeros(len(points), dtype=bool)
+        xs = -hw + (np.arange(math.ceil(2 * hw / resolution - 1e-9)) + 0.5) * resolution
+        ys = -hh + (np.arange(math.ceil(2 * hh / resolution - 1e-9)) + 0.5) * resolution
+        free = np.ones((len(ys), len(xs)), dtype=bool)
+        for x0, y0, x1, y1 in self._segments:
+            cols = slice(np.searchsorted(xs, min(x0, x1) - radius), np.searchsorted(xs, max(x0, x1) + radius, side="right"))
+            rows = slice(np.searchsorted(ys, min(y0, y1) - radius), np.searchsorted(ys, max(y0, y1) + radius, side="right"))
+            for block_rows, points in _blocks(xs[cols], ys[rows], rows.start):
+                near = _points_segments_distance(points, np.array([[x0, y0, x1, y1]])) < radius
+                free[block_rows, cols] &= ~near.reshape(-1, len(xs[cols]))
         for poly in self.obstacles:
-            inside |= _points_in_polygon(points, poly)
-        free = ((distance >= radius) & ~inside).reshape(gy.shape)
+            pts = np.asarray(poly)
+            cols = slice(np.searchsorted(xs, pts[:, 0].min()), np.searchsorted(xs, pts[:, 0].max(), side="right"))
+            rows = slice(np.searchsorted(ys, pts[:, 1].min()), np.searchsorted(ys, pts[:, 1].max(), side="right"))
+            for block_rows, points in _blocks(xs[cols], ys[rows], rows.start):
+                free[block_rows, cols] &= ~_points_in_polygon(points, poly).reshape(-1, len(xs[cols]))
+        return xs, ys, free
+
+    def _free_components(self, radius: float, resolution: float) -> tuple[np.ndarray, int]:
+        _, _, free = self.free_grid(radius, resolution)
         labels, n = _label(free)
         if n > 1:
             # Ignore specks smaller than the robot itself: rasterisation artefacts, not rooms.
@@ -244,7 +273,8 @@ class MazeSpec:
         return cache[radius]
 
     def _corner_nodes(self, radius: float) -> list[np.ndarray]:
-        nodes = []
+        """Points on an arc of ``radius`` around every convex corner, those clear of every wall (by 3 mm grace)."""
+        candidates = []
         margin = radius * (1 + 1e-6)
         for poly in self.obstacles:
             pts = np.asarray(poly, float)
@@ -258,15 +288,29 @@ class MazeSpec:
                 # Outward normals of the two edges meeting at the corner; place points on the arc between them.
                 n_in = orientation * np.array([d_in[1], -d_in[0]]) / np.linalg.norm(d_in)
                 n_out = orientation * np.array([d_out[1], -d_out[0]]) / np.linalg.norm(d_out)
+                # The arc turns the way the polygon turns at a convex corner: counter-clockwise for a
+                # counter-clockwise polygon, clockwise for a clockwise one, the short way round in
+                # both cases. (A counter-clockwise sweep modulo 2*pi for every polygon went the long
+                # way round a clockwise polygon's corners and left them uncovered.)
                 a0 = math.atan2(n_in[1], n_in[0])
-                sweep = (math.atan2(n_out[1], n_out[0]) - a0) % (2 * math.pi)
-                steps = max(1, math.ceil(sweep / _ARC_STEP))
+                sweep = orientation * ((orientation * (math.atan2(n_out[1], n_out[0]) - a0)) % (2 * math.pi))
+                steps = max(1, math.ceil(abs(sweep) / _ARC_STEP))
                 for s in range(steps + 1):
                     angle = a0 + sweep * s / steps
-                    point = corner + margin * np.array([math.cos(angle), math.sin(angle)])
-                    if self.clearance(point) >= radius - _GRAZE:
-                        nodes.append(point)
-        return nodes
+                    candidates.append(corner + margin * np.array([math.cos(angle), math.sin(angle)]))
+        return [p for p, c in zip(candidates, self._clearances(candidates)) if c >= radius - _GRAZE]
+
+    def _clearances(self, points: list[np.ndarray]) -> np.ndarray:
+        """:meth:`clearance` of many points (the inside tests vectorised over the points)."""
+        if not points:
+            return np.zeros(0)
+        xy = np.asarray(points, float).reshape(-1, 2)
+        distance = np.array([_clearance(float(x), float(y), self._segments) for x, y in xy])
+        hw, hh = self.half_extent
+        outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
+        for poly in self.obstacles:
+            outside |= _points_in_polygon(xy, poly)
+        return np.where(outside, -distance, distance)
 
 
 # ---------------------------------------------------------------------- helpers
@@ -355,8 +399,11 @@ def _points_segments_distance(points: np.ndarray, segments: np.ndarray) -> np.nd
 
 def _segments_distance(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray) -> np.ndarray:
     """Distance between each segment p0[k]-p1[k] and each wall (0 where they cross): shape (K, M)."""
-    a, b = walls[None, :, :2], walls[None, :, 2:]
-    p, q = p0[:, None, :], p1[:, None, :]
+    return _pair_distance(p0[:, None, :], p1[:, None, :], walls[None, :, :2], walls[None, :, 2:])
+
+
+def _pair_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance between segments p-q and a-b (0 where they cross), broadcasting over leading axes."""
 
     def cross(o, u, v):
         return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
@@ -374,10 +421,24 @@ def _point_to_segments(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.n
 
 
 def _visible_many(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray, radius: float) -> np.ndarray:
-    """Whether each segment p0[k]-p1[k] keeps at least ``radius`` from every wall."""
+    """Whether each segment p0[k]-p1[k] keeps at least ``radius`` from every wall.
+
+    Only walls whose bounding box comes within ``radius`` of a segment's bounding box can be
+    nearer than ``radius``; the exact distance is computed for those pairs only, in bounded chunks.
+    """
+    seen = np.ones(len(p0), dtype=bool)
     if len(walls) == 0:
-        return np.ones(len(p0), dtype=bool)
-    return _segments_distance(p0, p1, walls).min(axis=1) >= radius
+        return seen
+    low, high = np.minimum(p0, p1) - radius, np.maximum(p0, p1) + radius
+    wall_low, wall_high = np.minimum(walls[:, :2], walls[:, 2:]), np.maximum(walls[:, :2], walls[:, 2:])
+    step = max(1, _CHUNK // len(walls))
+    for start in range(0, len(p0), step):
+        part = slice(start, start + step)
+        near = np.all(low[part, None] <= wall_high[None], axis=-1) & np.all(wall_low[None] <= high[part, None], axis=-1)
+        pair, wall = np.nonzero(near)
+        close = _pair_distance(p0[part][pair], p1[part][pair], walls[wall, :2], walls[wall, 2:]) < radius
+        seen[start + pair[close]] = False
+    return seen
 
 
 def _dijkstra(lengths: np.ndarray, source: int, target: int) -> float:
@@ -397,21 +458,42 @@ def _dijkstra(lengths: np.ndarray, source: int, target: int) -> float:
     return float(best[target])
 
 
+def _blocks(xs: np.ndarray, ys: np.ndarray, first_row: int):
+    """The grid points (xs x ys) in blocks of whole rows, at most ``_CHUNK`` points each: (row slice, (k, 2) points)."""
+    if len(xs) == 0 or len(ys) == 0:
+        return
+    step = max(1, _CHUNK // len(xs))
+    for start in range(0, len(ys), step):
+        gx, gy = np.meshgrid(xs, ys[start : start + step])
+        yield slice(first_row + start, first_row + start + gx.shape[0]), np.stack([gx.ravel(), gy.ravel()], axis=1)
+
+
 def _label(mask: np.ndarray) -> tuple[np.ndarray, int]:
-    """4-connected component labelling of a boolean grid (iterative flood fill)."""
-    labels = np.zeros(mask.shape, dtype=np.int32)
-    n = 0
+    """4-connected component labelling of a boolean grid, numbered in row-major order of first cells."""
+    return _label_compiled(np.ascontiguousarray(mask, dtype=np.bool_))
+
+
+@njit(cache=True)
+def _label_compiled(mask: np.ndarray) -> tuple[np.ndarray, int]:  # pragma: no cover - compiled
     rows, cols = mask.shape
-    for start in zip(*np.nonzero(mask)):
-        if labels[start]:
-            continue
-        n += 1
-        labels[start] = n
-        stack = [start]
-        while stack:
-            r, c = stack.pop()
-            for rr, cc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
-                if 0 <= rr < rows and 0 <= cc < cols and mask[rr, cc] and not labels[rr, cc]:
-                    labels[rr, cc] = n
-                    stack.append((rr, cc))
+    labels = np.zeros((rows, cols), dtype=np.int32)
+    stack = np.empty(rows * cols, dtype=np.int32)
+    n = 0
+    for r0 in range(rows):
+        for c0 in range(cols):
+            if not mask[r0, c0] or labels[r0, c0] != 0:
+                continue
+            n += 1
+            labels[r0, c0] = n
+            stack[0] = r0 * cols + c0
+            top = 1
+            while top > 0:
+                top -= 1
+                r = stack[top] // cols
+                c = stack[top] % cols
+                for rr, cc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
+                    if 0 <= rr < rows and 0 <= cc < cols and mask[rr, cc] and labels[rr, cc] == 0:
+                        labels[rr, cc] = n
+                        stack[top] = rr * cols + cc
+                        top += 1
     return labels, n

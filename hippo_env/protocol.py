@@ -13,9 +13,11 @@ An agent is any object with these methods (structural typing: no base class need
 
 ``prepare`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
 terminates) and may step and reset it as often as it likes; every one of those steps counts
-in ``env_steps_total``. The agent must not read ``info["position"]`` or ``info["goal"]`` if it
-claims to navigate from its senses; the runner does not hide them, so that privileged
-reference agents can be written too (label them so).
+in ``env_steps_total``. An agent that claims to navigate from its senses reads, of ``info``, only
+``is_success``, ``collision``, ``heading`` and ``sim_time``; not ``position``, ``goal``,
+``path_length``, ``shortest_path_length`` or ``indirectness``. The runner does not hide them,
+so that privileged reference agents can be written too (label them so). An agent class whose
+constructor has no ``seed`` keyword is built as ``MyAgent(observation_space, action_space)``.
 
 :func:`run_dmtp` runs the delayed-match-to-place protocol: ``trials`` days, each with a new
 goal, of ``runs`` runs each. Goals and starts are drawn by the runner from its own seeded
@@ -25,7 +27,7 @@ generator, so every agent given the same seed faces exactly the same goals and s
 from __future__ import annotations
 
 import importlib
-import json
+import io
 import math
 import time
 from collections.abc import Callable
@@ -37,6 +39,7 @@ import gymnasium as gym
 import numpy as np
 
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
+from hippo_env.files import atomic_write, write_json
 from hippo_env.maze import MazeSpec
 
 REQUIRED_METHODS = ("reset", "act", "observe")
@@ -73,7 +76,11 @@ class Episode:
 
 @dataclass
 class DMTPResult:
-    """Everything a DMTP experiment produced. ``paths[trial][run]`` is an (n, 2) array of positions."""
+    """Everything a DMTP experiment produced. ``paths[trial][run]`` is an (n, 2) array of positions.
+
+    ``complete`` is False when the experiment was interrupted (Ctrl-C) before every trial ran:
+    ``episodes`` then holds only the runs that finished.
+    """
 
     maze: str
     agent: str
@@ -84,27 +91,35 @@ class DMTPResult:
     episodes: list[Episode] = field(default_factory=list)
     paths: list[list[np.ndarray]] = field(default_factory=list)
     seconds: float = 0.0
+    complete: bool = True
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``dmtp.json`` record (paths and timing left out)."""
-        return {
+        """The ``dmtp.json`` record (paths and timing left out).
+
+        An interrupted experiment's record also has ``"complete": false``; a complete one has
+        exactly the documented keys.
+        """
+        record: dict[str, Any] = {
             "maze": self.maze,
             "agent": self.agent,
             "seed": self.seed,
             "trials": self.trials,
             "runs": self.runs,
             "env_steps_total": self.env_steps_total,
-            "episodes": [_json_safe(asdict(e)) for e in self.episodes],
         }
+        if not self.complete:
+            record["complete"] = False
+        record["episodes"] = [_json_safe(asdict(e)) for e in self.episodes]
+        return record
 
     def save(self, out_dir: str | Path) -> Path:
-        """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``."""
+        """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``, each atomically."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        path = out / "dmtp.json"
-        path.write_text(json.dumps(self.to_dict(), indent=1) + "\n")
-        np.savez_compressed(out / "paths.npz", **{f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)})
-        return path
+        buffer = io.BytesIO()
+        np.savez_compressed(buffer, **{f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)})
+        atomic_write(out / "paths.npz", buffer.getvalue())
+        return write_json(out / "dmtp.json", self.to_dict())
 
     def indirectness(self) -> np.ndarray:
         """A (trials, runs) array of indirectness (NaN where not recorded)."""
@@ -210,6 +225,9 @@ def run_dmtp(
             taken; the run cut short by the budget is not recorded, its steps are counted.
         progress: Show a progress bar.
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
+
+    Raises:
+        DMTPInterrupted: On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` holds the finished runs.
     """
     for name, value in (("trials", trials), ("runs", runs)):
         if not isinstance(value, (int, np.integer)) or value < 1:
@@ -232,64 +250,89 @@ def run_dmtp(
     def budget_left() -> bool:
         return step_budget is None or prepared_steps + counted.steps < step_budget
 
-    for trial in range(trials):
-        if not budget_left():
-            break
-        goal = spec.sample_free(rng, GOAL_CLEARANCE)
-        starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
-        if same_start:
-            starts = [starts[0]] * runs
-        if agent is None or fresh_agent_per_trial:
-            agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
-            _check_agent(agent)
-            if callable(getattr(agent, "prepare", None)):
-                env.reset(options={"goal": None})
-                explorer = _CountingEnv(env, allow_goal=False)
-                agent.prepare(explorer)
-                prepared_steps += explorer.steps
-        if callable(getattr(agent, "start_trial", None)):
-            agent.start_trial(trial)
-        trial_paths = []
-        for run in range(runs):
+    try:
+        for trial in range(trials):
             if not budget_left():
                 break
-            observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
-            agent.reset(observation, info)
-            steps_before = counted.steps
-            while True:
-                action = agent.act(observation)
-                observation, reward, terminated, truncated, info = counted.step(action)
-                agent.observe(action, observation, reward, terminated, truncated, info)
-                if terminated or truncated or not budget_left():
+            goal = spec.sample_free(rng, GOAL_CLEARANCE)
+            starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
+            if same_start:
+                starts = [starts[0]] * runs
+            if agent is None or fresh_agent_per_trial:
+                agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
+                _check_agent(agent)
+                if callable(getattr(agent, "prepare", None)):
+                    env.reset(options={"goal": None})
+                    explorer = _CountingEnv(env, allow_goal=False)
+                    agent.prepare(explorer)
+                    prepared_steps += explorer.steps
+            if callable(getattr(agent, "start_trial", None)):
+                agent.start_trial(trial)
+            trial_paths: list[np.ndarray] = []
+            result.paths.append(trial_paths)
+            for run in range(runs):
+                if not budget_left():
                     break
-            if not (terminated or truncated):
-                break  # cut short by the step budget: not a run
-            trial_paths.append(env.unwrapped.path.copy())
-            result.episodes.append(
-                Episode(
-                    trial=trial,
-                    run=run,
-                    steps=counted.steps - steps_before,
-                    success=bool(info["is_success"]),
-                    path_length=float(info["path_length"]),
-                    shortest_path_length=float(info["shortest_path_length"]),
-                    indirectness=float(info.get("indirectness", math.nan)),
-                    start=[float(v) for v in starts[run]],
-                    goal=[float(v) for v in goal],
+                observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
+                agent.reset(observation, info)
+                steps_before = counted.steps
+                while True:
+                    action = agent.act(observation)
+                    observation, reward, terminated, truncated, info = counted.step(action)
+                    agent.observe(action, observation, reward, terminated, truncated, info)
+                    if terminated or truncated or not budget_left():
+                        break
+                if not (terminated or truncated):
+                    break  # cut short by the step budget: not a run
+                trial_paths.append(env.unwrapped.path.copy())
+                result.episodes.append(
+                    Episode(
+                        trial=trial,
+                        run=run,
+                        steps=counted.steps - steps_before,
+                        success=bool(info["is_success"]),
+                        path_length=float(info["path_length"]),
+                        shortest_path_length=float(info["shortest_path_length"]),
+                        indirectness=float(info.get("indirectness", math.nan)),
+                        start=[float(v) for v in starts[run]],
+                        goal=[float(v) for v in goal],
+                    )
                 )
-            )
-            if on_run_end is not None:
-                on_run_end(trial, run, agent, env)
-            if bar is not None:
-                bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
-                bar.update(1)
-        result.paths.append(trial_paths)
+                if on_run_end is not None:
+                    on_run_end(trial, run, agent, env)
+                if bar is not None:
+                    bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
+                    bar.update(1)
+    except KeyboardInterrupt:
+        # Keep what finished, consistently: a run counts once its episode is recorded.
+        result.complete = False
+        done = [sum(e.trial == t for e in result.episodes) for t in range(len(result.paths))]
+        result.paths = [paths[:n] for paths, n in zip(result.paths, done)]
+        while result.paths and not result.paths[-1]:
+            result.paths.pop()
+        result.env_steps_total = prepared_steps + counted.steps
+        result.seconds = time.perf_counter() - began
+        if bar is not None:
+            bar.close()
+        env.close()
+        raise DMTPInterrupted(result) from None
     result.env_steps_total = prepared_steps + counted.steps
     result.seconds = time.perf_counter() - began
     if bar is not None:
         bar.close()
     env.close()
     return result
+
+
+class DMTPInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`run_dmtp`. ``result`` holds every run that finished, ``complete=False``.
+
+    A subclass of ``KeyboardInterrupt``, so code that does not look for it still stops as usual.
+    """
+
+    def __init__(self, result: DMTPResult) -> None:
+        super().__init__(f"interrupted after {len(result.episodes)} of {result.trials * result.runs} runs")
+        self.result = result
 
 
 def _check_agent(agent: Any) -> None:
@@ -315,4 +358,4 @@ def _json_safe(record: dict[str, Any]) -> dict[str, Any]:
     return {k: (_nan_to_none(v) if isinstance(v, float) else v) for k, v in record.items()}
 
 
-__all__ = ["Agent", "DMTPResult", "Episode", "load_agent_class", "run_dmtp"]
+__all__ = ["Agent", "DMTPInterrupted", "DMTPResult", "Episode", "load_agent_class", "run_dmtp"]

@@ -150,7 +150,7 @@ def test_goal_in_maze_file_inside_obstacle(tmp_path):
 @pytest.mark.parametrize(
     "kwargs,message",
     [
-        ({"action_type": "joystick"}, "action_type 'joystick' is unknown; choose one of discrete, heading, wheels"),
+        ({"action_type": "joystick"}, "action_type 'joystick' is unknown; choose one of discrete, heading, heading_normalized, wheels"),
         ({"reward_type": "shaped"}, "reward_type 'shaped' is unknown; choose one of sparse, dense"),
         ({"render_mode": "ascii"}, "render_mode 'ascii' is unknown; choose None or one of human, rgb_array"),
         ({"n_rays": 0}, "n_rays must be a positive integer"),

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import gymnasium as gym
+import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
@@ -12,7 +14,7 @@ from stable_baselines3.common.env_checker import check_env as sb3_check_env
 import hippo_env
 from hippo_env import HippoMazeEnv
 
-ACTION_TYPES = ["discrete", "heading", "wheels"]
+ACTION_TYPES = ["discrete", "heading", "heading_normalized", "wheels"]
 
 
 @pytest.mark.parametrize("action_type", ACTION_TYPES)
@@ -58,7 +60,12 @@ def test_registered():
 
 @pytest.mark.parametrize(
     "action_type,space",
-    [("discrete", "Discrete(8)"), ("heading", "Box(-3.1415927, 3.1415927, (1,), float32)"), ("wheels", "Box(-1.0, 1.0, (2,), float32)")],
+    [
+        ("discrete", "Discrete(8)"),
+        ("heading", "Box(-3.1415927, 3.1415927, (1,), float32)"),
+        ("heading_normalized", "Box(-1.0, 1.0, (1,), float32)"),
+        ("wheels", "Box(-1.0, 1.0, (2,), float32)"),
+    ],
 )
 def test_spaces(action_type, space):
     env = HippoMazeEnv(n_rays=100, max_range=7.5, action_type=action_type)
@@ -70,3 +77,36 @@ def test_spaces(action_type, space):
     assert obs_space["heading"].shape == (2,) and float(obs_space["heading"].low.min()) == -1.0
     obs, _ = env.reset(seed=0)
     assert obs_space.contains(obs)
+
+
+@pytest.mark.parametrize("action_type", ["discrete", "heading_normalized", "wheels"])
+def test_checkers_do_not_warn_for_normalised_spaces(action_type):
+    """Only "heading" (kept as it was) draws the checkers' "use a symmetric, normalised Box" warning."""
+    env = HippoMazeEnv(maze="maze1", n_rays=32, action_type=action_type)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sb3_check_env(env, warn=True)
+    assert not [w for w in caught if "normalized" in str(w.message) or "symmetric" in str(w.message)]
+    env.close()
+
+
+@pytest.mark.parametrize("unit", [-1.0, -0.5, 0.0, 0.25, 0.5, 1.0])
+def test_heading_normalized_unit_is_pi_radians(unit):
+    """One unit of the normalised heading is pi radians: the same trajectory as "heading" given unit * pi."""
+    poses = []
+    for action_type, action in (("heading", unit * math.pi), ("heading_normalized", unit)):
+        env = HippoMazeEnv(maze="maze1", n_rays=8, action_type=action_type)
+        env.reset(seed=3)
+        for _ in range(3):
+            env.step(np.array([action], np.float32))
+        poses.append((*env.world.position, math.cos(env.world.heading), math.sin(env.world.heading)))
+        env.close()
+    np.testing.assert_allclose(poses[0], poses[1], atol=1e-6)
+
+
+def test_heading_normalized_outside_its_box_is_a_clear_error():
+    env = HippoMazeEnv(maze="open", n_rays=8, action_type="heading_normalized")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"heading in units of pi radians\] with values in \[-1, 1\]"):
+        env.step(np.array([1.5], np.float32))
+    env.close()

@@ -24,48 +24,48 @@ def make(maze="open", **kwargs):
 def test_goal_stays_across_resets():
     env = make("maze1")
     _, info = env.reset(seed=0)
-    goal = info["goal"]
+    goal = tuple(info["goal"])
     assert all(math.isfinite(g) for g in goal)
     starts = set()
     for _ in range(10):
         _, info = env.reset()
-        assert info["goal"] == goal
-        starts.add(info["position"])
+        assert tuple(info["goal"]) == goal
+        starts.add(tuple(info["position"]))
     assert len(starts) == 10
     # Even a seeded reset keeps the day's goal.
     _, info = env.reset(seed=123)
-    assert info["goal"] == goal
+    assert tuple(info["goal"]) == goal
 
 
 def test_goal_option_moves_the_goal_and_it_stays():
     env = make("maze2")
     env.reset(seed=0)
     _, info = env.reset(options={"goal": [2.0, -3.0]})
-    assert info["goal"] == (2.0, -3.0)
+    assert tuple(info["goal"]) == (2.0, -3.0)
     for _ in range(3):
-        assert env.reset()[1]["goal"] == (2.0, -3.0)
+        assert tuple(env.reset()[1]["goal"]) == (2.0, -3.0)
     _, info = env.reset(options={"goal": np.array([-1.0, 4.0])})
-    assert info["goal"] == (-1.0, 4.0)
+    assert tuple(info["goal"]) == (-1.0, 4.0)
 
 
 def test_new_goal_draws_a_new_goal():
     env = make("maze3")
     _, info = env.reset(seed=0)
-    goals = {info["goal"]}
+    goals = {tuple(info["goal"])}
     for _ in range(5):
         _, info = env.reset(options={"new_goal": True})
-        goals.add(info["goal"])
+        goals.add(tuple(info["goal"]))
         assert env.unwrapped.maze.clearance(info["goal"]) >= 0.5  # drawn goals keep 0.5 m from walls
-        assert env.reset()[1]["goal"] == info["goal"]
+        assert tuple(env.reset()[1]["goal"]) == tuple(info["goal"])
     assert len(goals) == 6
 
 
 def test_maze_file_goal_is_the_first_goal():
     spec = MazeSpec(name="with_goal", size=(6.0, 6.0), goal=(1.5, 1.0))
     env = make(spec)
-    assert env.reset(seed=0)[1]["goal"] == (1.5, 1.0)
-    assert env.reset()[1]["goal"] == (1.5, 1.0)
-    assert env.reset(options={"new_goal": True})[1]["goal"] != (1.5, 1.0)
+    assert tuple(env.reset(seed=0)[1]["goal"]) == (1.5, 1.0)
+    assert tuple(env.reset()[1]["goal"]) == (1.5, 1.0)
+    assert tuple(env.reset(options={"new_goal": True})[1]["goal"]) != (1.5, 1.0)
 
 
 def test_goal_free_episode_never_terminates():
@@ -81,7 +81,7 @@ def test_goal_free_episode_never_terminates():
     assert "indirectness" not in info or math.isnan(info["indirectness"])
     # Still goal-free on the next reset, until a goal is given.
     assert math.isnan(env.reset()[1]["goal"][0])
-    assert env.reset(options={"goal": [1.0, 1.0]})[1]["goal"] == (1.0, 1.0)
+    assert tuple(env.reset(options={"goal": [1.0, 1.0]})[1]["goal"]) == (1.0, 1.0)
 
 
 @pytest.mark.parametrize("maze", hippo_env.BUILTIN_MAZES)

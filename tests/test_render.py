@@ -75,16 +75,16 @@ def test_human_mode_runs_headless():
 
 
 def test_record_video(tmp_path):
-    pytest.importorskip("moviepy", reason="gymnasium.wrappers.RecordVideo needs moviepy (pip install moviepy), not installed here")
+    """gymnasium's RecordVideo writes an mp4 (it needs moviepy: the ``video`` extra, which ``make test`` installs)."""
     env = gym.make("HippoMaze-v0", maze="maze1", n_rays=32, render_mode="rgb_array", max_episode_steps=20)
-    env = gym.wrappers.RecordVideo(env, str(tmp_path), episode_trigger=lambda e: True, disable_logger=True)
+    env = gym.wrappers.RecordVideo(env, str(tmp_path / "videos"), episode_trigger=lambda e: True, disable_logger=True)
     env.reset(seed=0)
     for _ in range(20):
         *_, terminated, truncated, _ = env.step(env.action_space.sample())
         if terminated or truncated:
             break
     env.close()
-    assert list(tmp_path.glob("*.mp4"))
+    assert list((tmp_path / "videos").glob("*.mp4"))
 
 
 @pytest.mark.parametrize("maze", hippo_env.BUILTIN_MAZES)

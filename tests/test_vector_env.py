@@ -20,8 +20,9 @@ def test_make_vec(mode):
         obs, infos = envs.reset(seed=0)
         assert obs["ranges"].shape == (2, 64) and obs["ranges"].dtype == np.float32
         assert obs["heading"].shape == (2, 2)
-        positions = np.array([tuple(p) for p in infos["position"]])  # tuples in info arrive as an object array
-        assert positions.shape == (2, 2)
+        positions = infos["position"]
+        assert positions.shape == (2, 2) and positions.dtype == np.float64  # float arrays, not an object array of tuples
+        assert infos["goal"].shape == (2, 2) and infos["goal"].dtype == np.float64
         # Each sub-env gets its own seed: different starts.
         assert not np.array_equal(positions[0], positions[1])
         envs.action_space.seed(0)
@@ -91,3 +92,17 @@ def test_sb3_vec_env():
     obs, _rewards, _dones, infos = vec.step(np.array([0, 4]))
     assert len(infos) == 2 and "position" in infos[0]
     vec.close()
+
+
+def test_info_points_are_float_arrays():
+    env = gym.make("HippoMaze-v0", maze="maze1", n_rays=16)
+    _, info = env.reset(seed=0)
+    for key in ("position", "goal"):
+        assert isinstance(info[key], np.ndarray) and info[key].shape == (2,) and info[key].dtype == np.float64
+    _, _, _, _, info = env.step(0)
+    np.testing.assert_allclose(info["position"], env.unwrapped.world.position)
+    info["position"][0] = 99.0  # a copy: the caller may keep or change it
+    assert env.unwrapped.world.position[0] != 99.0
+    _, info = env.reset(options={"goal": None})
+    assert info["goal"].dtype == np.float64 and np.isnan(info["goal"]).all()
+    env.close()
