@@ -21,7 +21,7 @@ import gymnasium as gym
 from hippo_env.protocol import load_agent_class
 
 #: The built-in agent names. ``dynaq`` is PRIVILEGED (it reads the true position).
-AGENT_NAMES: tuple[str, ...] = ("hippo", "random", "dqn", "ppo", "dynaq")
+AGENT_NAMES: tuple[str, ...] = ("hippo", "hippo-paper", "random", "dqn", "ppo", "dynaq")
 
 #: Agents that read ``info["position"]`` (shown as "privileged" in every table).
 PRIVILEGED: frozenset[str] = frozenset({"dynaq"})
@@ -29,20 +29,26 @@ PRIVILEGED: frozenset[str] = frozenset({"dynaq"})
 Factory = Callable[[gym.spaces.Space, gym.spaces.Space, int], Any]
 
 
-def _hippo(**overrides: Any) -> Factory:
-    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
-        try:
-            from hippo_agent import AgentConfig, HippocampalAgent
-        except ImportError as err:
-            raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
-        if not overrides:
-            return HippocampalAgent(observation_space, action_space, seed=seed)
-        allowed = {f.name for f in fields(AgentConfig)}
-        unknown = sorted(set(overrides) - allowed)
-        if unknown:
-            raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
-        return HippocampalAgent(observation_space, action_space, config=replace(AgentConfig(), **overrides), seed=seed)
+def _hippo(paper: bool = False, **overrides: Any) -> Factory:
+    """The hippocampal agent: the default (improved) model, or with ``paper`` the paper's model
+    (``AgentConfig.paper()``). The factory's ``env_kwargs`` asks the runner for the odometry
+    sensor when the model path-integrates."""
+    try:
+        from hippo_agent import AgentConfig
+    except ImportError as err:
+        raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
+    allowed = {f.name for f in fields(AgentConfig)}
+    unknown = sorted(set(overrides) - allowed)
+    if unknown:
+        raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+    config = replace(AgentConfig.paper() if paper else AgentConfig(), **overrides)
 
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int) -> Any:
+        from hippo_agent import HippocampalAgent
+
+        return HippocampalAgent(observation_space, action_space, config=config, seed=seed)
+
+    make.env_kwargs = {"odometry": True} if config.path_integration else {}  # type: ignore[attr-defined]
     return make
 
 
@@ -112,7 +118,8 @@ def agent_factory(name: str, **overrides: Any) -> Factory:
     """A factory ``factory(observation_space, action_space, seed) -> agent`` for the agent ``name``.
 
     Args:
-        name: ``hippo``, ``random``, ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
+        name: ``hippo`` (the default model), ``hippo-paper`` (``AgentConfig.paper()``), ``random``,
+            ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
             or ``module:Class`` for any class following the Agent protocol (built as
             ``Class(observation_space, action_space, seed=seed, **overrides)``, or without
             ``seed`` if its constructor takes none).
@@ -125,8 +132,8 @@ def agent_factory(name: str, **overrides: Any) -> Factory:
     """
     if not isinstance(name, str):
         raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")  # noqa: TRY004
-    if name == "hippo":
-        return _hippo(**overrides)
+    if name in ("hippo", "hippo-paper"):
+        return _hippo(paper=name == "hippo-paper", **overrides)
     if name == "random":
         return _random(**overrides)
     if name in ("dqn", "ppo"):

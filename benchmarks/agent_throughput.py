@@ -68,7 +68,7 @@ def timed(agent: HippocampalAgent, recorded: list, exploit: bool) -> tuple[float
 
 rows = []
 for n_place in args.cells:
-    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays)
+    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
     env.reset(seed=args.seed)
     agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=n_place, dry_run_steps=args.dry_run_steps), seed=args.seed)
     agent.prepare(env)

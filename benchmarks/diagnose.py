@@ -33,7 +33,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)

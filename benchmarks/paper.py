@@ -119,8 +119,11 @@ class PaperArgs:
     """Runs from random starts toward each generalisation goal, to test the inferred map."""
     nav_max_steps: int = 3000
     """Step limit of those runs."""
+    model: str = "paper"
+    """The agent: ``paper`` (``AgentConfig.paper()``, the model as the paper describes it) or
+    ``default`` (``AgentConfig()``, with path integration)."""
     dry_run_steps: int | None = None
-    """Override the agent's dry run (None: AgentConfig's default)."""
+    """Override the agent's dry run (None: the config's default)."""
     max_episode_steps: int | None = None
     """Override the environment's 10,000-step limit per DMTP run (None: keep it)."""
     progress: bool = True
@@ -136,7 +139,9 @@ class PaperArgs:
         )
 
     def agent_config(self) -> AgentConfig:
-        config = AgentConfig()
+        if self.model not in ("paper", "default"):
+            raise ValueError(f"--model {self.model!r} is unknown; allowed: paper, default")
+        config = AgentConfig.paper() if self.model == "paper" else AgentConfig()
         return config if self.dry_run_steps is None else config.replace(dry_run_steps=int(self.dry_run_steps))
 
     def command(self) -> str:
@@ -176,7 +181,8 @@ def make_agent(observation_space: Any, action_space: Any, seed: int | None = Non
 
 
 def make_env(maze: str, **kwargs: Any) -> gym.Env:
-    return gym.make("HippoMaze-v0", maze=maze, **kwargs)
+    """The environment with the odometry sensor (the paper's model ignores it; nothing else changes)."""
+    return gym.make("HippoMaze-v0", maze=maze, odometry=True, **kwargs)
 
 
 def roam(maze: str, steps: int, seed: int, legs: int = 16) -> np.ndarray:
@@ -567,6 +573,7 @@ def task_dmtp_trial(maze: str, seed: int, runs: int, same_start: bool, config: A
     result = run_dmtp(
         functools.partial(make_agent, config=config), maze, trials=1, runs=runs, seed=seed, agent_name="hippo",
         same_start=same_start, max_episode_steps=max_episode_steps, progress=False, on_run_end=on_run_end,
+        env_kwargs={"odometry": True},
     )
     return {"maze": maze, "seed": seed, "same_start": same_start, "result": result, "map": captured or None}
 
@@ -1310,7 +1317,7 @@ def write_report(args: PaperArgs, data: dict[str, Any], rows: list[dict[str, Any
               f"- **Field statistics**: a cell has a field if its peak rate on the grid is >= {FIELD_MIN_PEAK}; the field is where the rate is >= {FIELD_LEVEL:.0%} of the peak; a separate piece counts if it holds >= {COMPONENT_MIN_MASS:.0%} of the field's rate; solidity = main piece's area / its convex hull's. A field 'in several quadrants' has separate pieces in them (a field straddling a gap is one piece); 'similar places' = pieces within {SIMILAR_PLACE} m once folded by 5 m translations into one compartment.",
               f"- **Reward-map statistics**: a place is covered if the value exceeds the agent's exploit threshold xi = {cfg.xi:g}; gradedness is Spearman's rho between value and the geodesic distance to the goal over covered places.",
               "- **Generalisation**: the dry run (place fields everywhere, W_pb only) precedes every scenario, as before every DMTP trial; W_pp is learnt only on the exploration shown. 'Replay only' = a new reward cell, the place cells set to their steady-state rates at the goal, then the agent's own replay (`learn_reward`, Algorithm 1). The maps are then also tested by runs from random starts.",
-              "- **Agent**: `AgentConfig()` defaults" + (f" with dry_run_steps={args.dry_run_steps}" if args.dry_run_steps is not None else "") + " (see paper.json for every value).",
+              f"- **Agent**: `{'AgentConfig.paper()' if args.model == 'paper' else 'AgentConfig()'}`" + (f" with dry_run_steps={args.dry_run_steps}" if args.dry_run_steps is not None else "") + " (see paper.json for every value).",
               ""]
     path = out / "REPORT.md"
     path.write_text("\n".join(lines))

@@ -38,7 +38,7 @@ class Args:
 args = parse_dataclass_args(Args, __doc__.splitlines()[0])
 rows = []
 for maze in args.mazes:
-    env = gym.make("HippoMaze-v0", maze=maze)
+    env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
     env.reset(seed=args.seed)
     agent = HippocampalAgent(env.observation_space, env.action_space, seed=args.seed)
     agent.prepare(env)

@@ -326,7 +326,8 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
         made.append(ledger)
         return ledger
 
-    common = {"env_kwargs": {"reward_type": job.reward_type}, "max_episode_steps": job.max_episode_steps or None, "progress": False}
+    sensors = getattr(base, "env_kwargs", {})  # e.g. the hippocampal agent's odometry
+    common = {"env_kwargs": {**sensors, "reward_type": job.reward_type}, "max_episode_steps": job.max_episode_steps or None, "progress": False}
     learn = run_dmtp(
         factory, job.maze, trials=job.days, runs=job.runs, seed=job.seed, agent_name=job.agent,
         fresh_agent_per_trial=job.days > 1, step_budget=job.budget or None, **common,

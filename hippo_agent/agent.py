@@ -21,6 +21,20 @@ Behaviour (paper section "Modes of Operation"):
 
 The model does one place-cell update per environment step.
 
+Two settings (:class:`~hippo_agent.config.AgentConfig`): ``AgentConfig.paper()`` is the model as
+the paper describes it. The default adds, beyond the paper:
+
+- **path integration** (``cells/path_integration.py``): the wheel odometry (the env's opt-in
+  ``odometry`` observation) rotated by the compass moves a position estimate in the agent's own
+  frame. Each place cell learns where in that frame it fires (its centre) and gets an extra drive,
+  positive near its centre and negative far from it, so a distant place that merely looks alike
+  no longer fires it. At each run's start the robot has been put down somewhere unknown: the
+  place code driven by the BVCs alone votes for positions (the centres of its active cells)
+  until one candidate holds most of the belief; until then the path-integration input and all
+  plasticity are off. Afterwards the same vote keeps correcting the estimate.
+- **latent learning**: the place-place tensor also learns during the dry run, so replay spreads
+  over everything explored, along the paths actually walked.
+
 Measured (open 10 m arena, ``hippo_env.protocol.run_dmtp``, 20 trials x 4 runs per seed, a fresh
 agent per trial, default config): seeds 0-4 (used for tuning) median indirectness per run
 30.3 / 1.01 / 0.49 / 0.49, 64 % of runs 2-4 below 1; held-out seeds 5-6: 33.0 / 1.98 / 0.90 /
@@ -52,10 +66,11 @@ from hippo_agent.config import AgentConfig
 
 __all__ = ["HippocampalAgent"]
 
+ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
 PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: path integration (odometry, centres, the integrator's belief)
 
 
 def _wrap(angle: float) -> float:
@@ -64,7 +79,7 @@ def _wrap(angle: float) -> float:
 
 
 def _describe_space(space: Any) -> str:
-    return f"{type(space).__name__}({space})" if space is not None else "None"
+    return str(space)
 
 
 class HippocampalAgent:
@@ -103,12 +118,12 @@ class HippocampalAgent:
         self.config = config
         self.seed = seed
         self.n_rays, self.max_range, self.has_odometry = self._check_observation_space(observation_space)
+        self.action_kind, self.n_actions = self._check_action_space(action_space)
         if config.path_integration and not self.has_odometry:
             raise ValueError(
                 "the observation space has no 'odometry', which AgentConfig.path_integration=True needs: make the env "
                 "with gym.make('HippoMaze-v0', odometry=True), or use AgentConfig.paper() (the model without path integration)"
             )
-        self.action_kind, self.n_actions = self._check_action_space(action_space)
         self.observation_space = observation_space
         self.action_space = action_space
 
@@ -349,7 +364,10 @@ class HippocampalAgent:
     # ================================================================== path integration
     def _odometry_step(self, observation: dict, heading_vec: np.ndarray) -> np.ndarray:
         """The allocentric displacement: the encoders' (forward, left) rotated by the compass."""
-        forward, left = (float(x) for x in np.asarray(observation["odometry"], dtype=np.float64))
+        try:
+            forward, left = (float(x) for x in np.asarray(observation["odometry"], dtype=np.float64).reshape(2))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError("observation must hold 'odometry' (forward, left) in metres: path integration needs it") from exc
         norm = math.hypot(float(heading_vec[0]), float(heading_vec[1])) or 1.0
         c, s = float(heading_vec[0]) / norm, float(heading_vec[1]) / norm
         return np.array([c * forward - s * left, s * forward + c * left])
@@ -508,6 +526,9 @@ class HippocampalAgent:
         "W_eff": ("reward", "W_eff"), "s": ("place", "s"), "v": ("place", "v"),
         "trace": ("place", "trace"), "hd_trace": ("place", "hd_trace"), "hd_rates": ("hd", "rates"),
         "bvc_rates": ("bvc", "rates"), "last_values": ("agent", "last_values"),
+        "s_sense": ("place", "s_sense"), "v_sense": ("place", "v_sense"), "centres": ("place", "centres"),
+        "centre_mass": ("place", "centre_mass"), "pi_particles": ("pi", "particles"), "pi_weights": ("pi", "weights"),
+        "pi_estimate": ("pi", "estimate"), "pi_last_step": ("pi", "last_step"),
     }
     _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
 
@@ -527,7 +548,7 @@ class HippocampalAgent:
             "version": FORMAT_VERSION,
             "config": self.config.to_dict(),
             "seed": self.seed,
-            "observation": {"n_rays": self.n_rays, "max_range": self.max_range},
+            "observation": {"n_rays": self.n_rays, "max_range": self.max_range, "odometry": self.has_odometry},
             "action": {"kind": self.action_kind, "n": self.n_actions},
             "rng_state": self.rng.bit_generator.state,
             "rng_kind": type(self.rng.bit_generator).__name__,
@@ -543,6 +564,8 @@ class HippocampalAgent:
                 "last_decision": self.last_decision,
                 "episode_stats": self.episode_stats,
                 "total_steps": self.total_steps,
+                "pi": {"frame_started": self.pi.frame_started, "anchored": self.pi.anchored, "fresh": self.pi.fresh,
+                       "confidence": self.pi.confidence},
             },
         }
         arrays = {name: getattr(target, attr) for name, target, attr in self._array_slots()}
@@ -582,10 +605,13 @@ class HippocampalAgent:
         try:
             config = AgentConfig.from_dict(meta["config"])
             n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
-            obs_space = gym.spaces.Dict({
+            spaces = {
                 "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
                 "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
-            })
+            }
+            if meta["observation"]["odometry"]:
+                spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
+            obs_space = gym.spaces.Dict(spaces)
             if meta["action"]["kind"] == "discrete":
                 act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
             else:
@@ -617,6 +643,9 @@ class HippocampalAgent:
             agent.last_decision = str(st["last_decision"])
             agent.episode_stats = {str(k): int(v) for k, v in st["episode_stats"].items()}
             agent.total_steps = int(st["total_steps"])
+            pi = st["pi"]
+            agent.pi.frame_started, agent.pi.anchored = bool(pi["frame_started"]), bool(pi["anchored"])
+            agent.pi.fresh, agent.pi.confidence = bool(pi["fresh"]), float(pi["confidence"])
         except ValueError as exc:
             raise ValueError(f"{what}: {exc}") from exc
         except (KeyError, TypeError, AttributeError) as exc:

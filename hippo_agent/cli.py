@@ -45,7 +45,7 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
     dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
     dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
-    dmtp.add_argument("--agent", default="hippo", help="hippo, random, dqn, ppo, or module:Class (default: hippo)")
+    dmtp.add_argument("--agent", default="hippo", help="hippo (the default model), hippo-paper (the paper's model), random, dqn, ppo, or module:Class (default: hippo)")
     dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures, new or empty (default: out)")
     dmtp.add_argument("--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there")
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")

@@ -206,7 +206,7 @@ class AgentConfig:
     """Gain of the path-integration drive of a place cell with a centre:
     ``pi_gain * (exp(-d^2 / 2 pi_sigma^2) - pi_threshold)``, ``d`` the distance from the estimate to
     the cell's centre."""
-    pi_sigma: float = 0.4
+    pi_sigma: float = 0.7
     """Width (m) of the path-integration drive around a cell's centre."""
     pi_threshold: float = 0.7
     """Offset of the path-integration drive: far from its centre a cell is inhibited by

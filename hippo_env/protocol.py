@@ -219,7 +219,9 @@ def run_dmtp(
         same_start: Start every run of a trial from the same place (the paper's Fig. 3).
         fresh_agent_per_trial: A new agent (and its pre-exploration) for each trial, making trials
             independent replicates; otherwise one agent lives through every trial.
-        env_kwargs: More arguments for ``gym.make("HippoMaze-v0", ...)``.
+        env_kwargs: More arguments for ``gym.make("HippoMaze-v0", ...)``. A factory may carry its
+            own ``env_kwargs`` attribute, the sensors its agent needs (the hippocampal agent's
+            factory asks for ``odometry=True``); these come first, ``env_kwargs`` overrides them.
         max_episode_steps: Overrides the registered limit of 10,000 steps per run.
         step_budget: Stop once this many environment steps (pre-exploration included) have been
             taken; the run cut short by the budget is not recorded, its steps are counted.
@@ -233,7 +235,7 @@ def run_dmtp(
         if not isinstance(value, (int, np.integer)) or value < 1:
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
     spec = MazeSpec.load(maze)
-    make_kwargs = dict(env_kwargs or {})
+    make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
     if max_episode_steps is not None:
         make_kwargs["max_episode_steps"] = max_episode_steps
     env = gym.make("HippoMaze-v0", maze=spec, **make_kwargs)

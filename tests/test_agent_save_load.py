@@ -29,17 +29,20 @@ class TinyRoom:
         self.observation_space = gym.spaces.Dict({
             "ranges": gym.spaces.Box(0.0, 8.0, (360,), np.float32),
             "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+            "odometry": gym.spaces.Box(-0.3, 0.3, (2,), np.float32),
         })
         self.action_space = action_space
+        self.moved = np.zeros(2)
         self.goal = np.array(goal)
         self.pos, self.heading = np.array([-1.5, -1.5]), 0.0
 
     def obs(self):
-        return {"ranges": square_ranges(self.pos, self.heading),
-                "heading": np.array([np.cos(self.heading), np.sin(self.heading)], np.float32)}
+        c, s = np.cos(self.heading), np.sin(self.heading)
+        return {"ranges": square_ranges(self.pos, self.heading), "heading": np.array([c, s], np.float32),
+                "odometry": np.array([c * self.moved[0] + s * self.moved[1], -s * self.moved[0] + c * self.moved[1]], np.float32)}
 
     def reset(self, start=(-1.5, -1.5)):
-        self.pos, self.heading = np.array(start, float), 0.0
+        self.pos, self.heading, self.moved = np.array(start, float), 0.0, np.zeros(2)
         return self.obs(), {}
 
     def step(self, action):
@@ -49,7 +52,8 @@ class TinyRoom:
             self.heading = float(action[0])
         new = self.pos + 0.15 * np.array([np.cos(self.heading), np.sin(self.heading)])
         collision = bool(np.any(np.abs(new) > 2.8))
-        self.pos = np.clip(new, -2.8, 2.8)
+        new = np.clip(new, -2.8, 2.8)
+        self.moved, self.pos = new - self.pos, new
         done = bool(np.linalg.norm(self.pos - self.goal) < 0.3)
         return self.obs(), float(done), done, False, {"collision": collision}
 
@@ -71,9 +75,12 @@ def play(env, agent, steps, start=(-1.5, -1.5)):
 
 def trained_agent(action_space=gym.spaces.Discrete(8)):
     env = TinyRoom(action_space)
-    agent = HippocampalAgent(env.observation_space, action_space, AgentConfig(n_place=120, dry_run_steps=0), seed=4)
+    agent = HippocampalAgent(env.observation_space, action_space, AgentConfig(n_place=300, dry_run_steps=0), seed=6)
     agent.start_trial(0)
-    play(env, agent, 1500)
+    for _ in range(8):  # until a replay has written a reward map (the goal reached with a place cell active)
+        play(env, agent, 1500)
+        if agent.goal_rewarded:
+            break
     assert agent.goal_rewarded, "the fixture should have found the goal at least once"
     return env, agent
 
@@ -169,5 +176,5 @@ def test_file_is_a_plain_npz_with_json_metadata(tmp_path):
     assert zipfile.is_zipfile(tmp_path / "a.npz")
     with np.load(tmp_path / "a.npz", allow_pickle=False) as data:
         meta = json.loads(str(data["__meta__"]))
-    assert meta["format"] == FORMAT_TAG and meta["version"] == 1
-    assert meta["config"]["n_place"] == 120
+    assert meta["format"] == FORMAT_TAG and meta["version"] == 2
+    assert meta["config"]["n_place"] == 300

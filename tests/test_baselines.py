@@ -39,11 +39,11 @@ def env():
 # ------------------------------------------------------------------------------------------ registry
 class TestRegistry:
     def test_names(self):
-        assert set(AGENT_NAMES) == {"hippo", "random", "dqn", "ppo", "dynaq"}
+        assert set(AGENT_NAMES) == {"hippo", "hippo-paper", "random", "dqn", "ppo", "dynaq"}
         assert PRIVILEGED == {"dynaq"}
 
     def test_unknown_name_lists_the_allowed_ones(self):
-        with pytest.raises(ValueError, match="hippo, random, dqn, ppo, dynaq"):
+        with pytest.raises(ValueError, match="hippo, hippo-paper, random, dqn, ppo, dynaq"):
             agent_factory("a2c")
 
     def test_dense_is_not_an_agent(self):
@@ -71,6 +71,14 @@ class TestRegistry:
     def test_hippo_is_lazy(self):
         make = agent_factory("hippo")  # builds nothing, imports nothing heavy
         assert callable(make)
+
+    def test_hippo_asks_the_runner_for_odometry_and_hippo_paper_does_not(self):
+        assert agent_factory("hippo").env_kwargs == {"odometry": True}
+        assert agent_factory("hippo-paper").env_kwargs == {}
+        assert agent_factory("hippo", path_integration=False).env_kwargs == {}
+        result = run_dmtp(agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0,
+                          max_episode_steps=200, progress=False)
+        assert len(result.episodes) == 1 and result.env_steps_total > 100
 
 
 # ------------------------------------------------------------------------------------------ features

@@ -119,7 +119,7 @@ class PathIntegrator:
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
             if not self.anchored:
-                self._redraw(rates, centres, self.n_particles if self.fresh else int(round(self.redraw_fraction * self.n_particles)))
+                self._redraw(rates, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
                 self.fresh = False
             then = self.particles - self.lag * self.last_step
             d2 = ((then[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
@@ -158,5 +158,5 @@ class PathIntegrator:
         w = self.weights[near]
         self.confidence = float(w.sum())
         self.estimate = (w @ self.particles[near]) / self.confidence
-        if not self.anchored and self.confidence >= self.anchor_weight:
-            self.anchored = True
+        if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight:
+            self.anchored = True  # (a fresh belief is still where the last run ended: no evidence yet)

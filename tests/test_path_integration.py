@@ -1,0 +1,142 @@
+"""Path integration: the env's odometry sensor, the integrator, and the agent that uses them."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent.cells import PathIntegrator
+
+
+# ------------------------------------------------------------------ the odometry sensor
+def test_odometry_is_opt_in_and_leaves_the_default_observation_alone():
+    plain = gym.make("HippoMaze-v0")
+    with_odometry = gym.make("HippoMaze-v0", odometry=True)
+    assert "odometry" not in plain.observation_space.spaces
+    assert with_odometry.observation_space["odometry"].shape == (2,)
+    a, _ = plain.reset(seed=3)
+    b, _ = with_odometry.reset(seed=3)
+    np.testing.assert_array_equal(a["ranges"], b["ranges"])
+    for action in (0, 3, 5, 5, 1):
+        a, *_ = plain.step(action)
+        b, *_ = with_odometry.step(action)
+        np.testing.assert_array_equal(a["ranges"], b["ranges"])  # same trajectory: no extra random draws
+
+
+def test_odometry_integrates_to_the_true_displacement():
+    env = gym.make("HippoMaze-v0", maze="maze2", odometry=True)
+    obs, info = env.reset(seed=0, options={"goal": None})
+    np.testing.assert_array_equal(obs["odometry"], [0.0, 0.0])
+    start, estimate = np.array(info["position"]), np.zeros(2)
+    rng = np.random.default_rng(0)
+    bumps = 0
+    for _ in range(1500):
+        obs, _, _, _, info = env.step(int(rng.integers(8)))
+        bumps += info["collision"]
+        (c, s), (forward, left) = obs["heading"].astype(float), obs["odometry"].astype(float)
+        estimate += (c * forward - s * left, s * forward + c * left)
+    assert bumps > 10  # the walk slid along walls too
+    assert np.linalg.norm(estimate - (np.array(info["position"]) - start)) < 1e-3
+
+
+def test_odometry_noise_scales_with_the_distance_moved():
+    env = gym.make("HippoMaze-v0", odometry=True, odometry_noise=0.1)
+    env.reset(seed=0, options={"start": [0.0, 0.0], "heading": 0.0})
+    forwards = [env.step(0)[0]["odometry"][0] for _ in range(20)]
+    assert np.std(forwards) > 0.003 and abs(np.mean(forwards) - 0.15) < 0.02
+
+
+def test_env_checker_passes_with_odometry():
+    check_env(gym.make("HippoMaze-v0", odometry=True).unwrapped, skip_render_check=True)
+
+
+@pytest.mark.parametrize("kwargs", [{"odometry": 1}, {"odometry_noise": -0.1}, {"heading_noise": float("nan")}])
+def test_bad_sensor_arguments_are_rejected(kwargs):
+    with pytest.raises(ValueError, match=next(iter(kwargs))):
+        gym.make("HippoMaze-v0", **kwargs)
+
+
+# ------------------------------------------------------------------ the integrator
+def integrator(**kw):
+    args = {"motion_noise": 0.0, "min_motion_noise": 0.0, "vote_sigma": 0.4, "anchor_radius": 0.3,
+            "anchor_weight": 0.8, "redraw_fraction": 0.2, **kw}
+    return PathIntegrator(100, np.random.default_rng(0), **args)
+
+
+def test_first_run_sets_the_frame_and_odometry_moves_it():
+    pi = integrator()
+    pi.start_run()
+    assert pi.anchored and np.array_equal(pi.estimate, [0.0, 0.0])
+    for _ in range(10):
+        pi.move(np.array([0.1, 0.05]))
+        pi.correct(np.zeros(0), np.zeros((0, 2)))  # no evidence: the belief keeps its weights
+    np.testing.assert_allclose(pi.estimate, [1.0, 0.5])
+
+
+def test_a_kidnapped_integrator_anchors_on_the_vote_not_on_where_it_was():
+    pi = integrator()
+    pi.start_run()
+    pi.move(np.array([3.0, 3.0]))
+    pi.correct(np.zeros(0), np.zeros((0, 2)))
+    pi.start_run()  # put down elsewhere
+    assert not pi.anchored
+    pi.correct(np.zeros(0), np.zeros((0, 2)))
+    assert not pi.anchored  # no evidence yet: the old place is no anchor
+    centres = np.array([[-1.0, 2.0], [-1.1, 2.1], [-0.9, 1.9]])
+    for _ in range(20):
+        pi.correct(np.array([0.5, 0.4, 0.3]), centres)
+    assert pi.anchored
+    assert np.linalg.norm(pi.estimate - [-1.0, 2.0]) < 0.15
+
+
+def test_two_look_alike_places_stay_unresolved_until_the_senses_differ():
+    pi = integrator()
+    pi.start_run()
+    pi.start_run()
+    twins = np.array([[-2.0, 0.0], [2.0, 0.0]])
+    for _ in range(3):
+        pi.correct(np.array([0.5, 0.5]), twins)
+    assert not pi.anchored  # half the belief at each twin
+    for _ in range(10):
+        pi.move(np.array([0.0, 0.1]))
+        pi.correct(np.array([0.5]), np.array([[2.0, 0.1 * (_ + 1)]]))  # now only the east one fits
+    assert pi.anchored and pi.estimate[0] > 1.5
+
+
+# ------------------------------------------------------------------ the agent
+def test_the_default_agent_needs_odometry_and_says_how_to_get_it():
+    env = gym.make("HippoMaze-v0")
+    with pytest.raises(ValueError, match="odometry=True.*AgentConfig.paper"):
+        HippocampalAgent(env.observation_space, env.action_space)
+    HippocampalAgent(env.observation_space, env.action_space, AgentConfig.paper())  # the paper's model does not
+
+
+def test_the_agent_keeps_its_estimate_within_a_few_centimetres_while_exploring():
+    env = gym.make("HippoMaze-v0", maze="maze2", odometry=True)
+    env.reset(seed=0, options={"goal": None})
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=400, dry_run_steps=0), seed=0)
+    obs, info = env.reset(options={"goal": None})
+    agent.reset(obs, info)
+    origin, errors = np.array(info["position"]), []
+    for _ in range(800):
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        errors.append(np.linalg.norm(agent.pi.estimate - (np.array(info["position"]) - origin)))
+    assert agent.pi.anchored
+    assert np.median(errors) < 0.1 and max(errors) < 0.5
+    assert (agent.place.centre_mass > 0).sum() > 30  # cells learnt where they fire
+
+
+def test_paper_config_is_the_paper_model():
+    paper = AgentConfig.paper()
+    assert not paper.path_integration and not paper.learn_pp_in_dry_run and paper.dry_run_steps == 5000
+    assert AgentConfig.paper(n_place=200).n_place == 200
+    assert AgentConfig().path_integration
+    assert math.isclose(AgentConfig().trace_rate, paper.trace_rate)
