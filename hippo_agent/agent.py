@@ -35,20 +35,7 @@ the paper describes it. The default adds, beyond the paper:
 - **latent learning**: the place-place tensor also learns during the dry run, so replay spreads
   over everything explored, along the paths actually walked.
 
-Measured (open 10 m arena, ``hippo_env.protocol.run_dmtp``, 20 trials x 4 runs per seed, a fresh
-agent per trial, default config): seeds 0-4 (used for tuning) median indirectness per run
-30.3 / 1.01 / 0.49 / 0.49, 64 % of runs 2-4 below 1; held-out seeds 5-6: 33.0 / 1.98 / 0.90 /
-0.37, 56 % below 1; all 140 trials: 30.6 / 1.29 / 0.55 / 0.46, 62 % below 1, 100 % of runs 2-4
-reaching the goal. Outcomes are bimodal and a median over 20 trials moves by +-0.5 from seed to
-seed, so settings were compared on the same seeds (see the "tuned" notes in
-:mod:`hippo_agent.config`). The two failure modes left are the paper's own: a run-2 start
-outside the region run 1 mapped (the agent must explore until it enters it), and near misses,
-where the value peak (about one place field, ~1 m) is wider than the 0.3 m goal disk and the
-agent circles it.
-
-Speed (one core, 1000 place cells, 400 BVCs, 720 rays, learning on, agent only): about 2,500
-act + observe steps/s when exploiting (8-way preplay every step), 3,500 when exploring; one
-20-iteration replay 6-10 ms.
+What each setting measures, per maze, is in the README and ``benchmarks/results/``.
 """
 
 from __future__ import annotations

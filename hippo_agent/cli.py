@@ -59,6 +59,8 @@ def main(argv: list[str] | None = None) -> int:
     paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
     paper.add_argument("--seed", type=_seed, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
     paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
+    paper.add_argument("--model", default="paper", choices=("paper", "default"),
+                       help="paper: AgentConfig.paper(), the model as the paper describes it; default: AgentConfig(), with path integration (default: paper)")
 
     args = parser.parse_args(argv)
     try:
@@ -248,7 +250,7 @@ def run_paper_command(args: argparse.Namespace) -> int:
         from benchmarks.paper import PaperArgs, run_paper
     except ImportError as err:
         raise ValueError(f"the paper benchmark is not available in this installation ({err}); run from a checkout with `pip install -e .`") from err
-    run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers))
+    run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers, model=args.model))
     return 0
 
 
