@@ -40,6 +40,8 @@ class Args:
     """rangefinder rays (the paper's 720)"""
     seed: int = 0
     """seeds the environment, the agent and the recorded walk"""
+    model: str = "default"
+    """default (AgentConfig(), with path integration) or paper (AgentConfig.paper())"""
     target: float = 2_000.0
     """steps/s aimed for at 1000 place cells"""
     out: str = "benchmarks/results/agent_throughput.json"
@@ -70,7 +72,7 @@ rows = []
 for n_place in args.cells:
     env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
     env.reset(seed=args.seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=n_place, dry_run_steps=args.dry_run_steps), seed=args.seed)
+    agent = HippocampalAgent(env.observation_space, env.action_space, (AgentConfig.paper if args.model == "paper" else AgentConfig)(n_place=n_place, dry_run_steps=args.dry_run_steps), seed=args.seed)
     agent.prepare(env)
     agent.start_trial(0)
     observation, info = env.reset(options={"goal": [0.0, 0.0]})

@@ -3,6 +3,8 @@
 Runs DMTP days with the agent, watching it from outside (this harness reads the true position;
 the agent never does) and measures, per maze:
 
+- **across walls**: the mean place-code cosine of places less than 1 m apart in a straight line
+  but more than 2 m apart by path (the two sides of a thin wall).
 - **twins**: the share of places (a 0.5 m grid over the free space) whose place code has a
   distant look-alike: another place more than 2 m away by path whose place-rate vector has cosine
   > 0.5 with it. Measured after each day's last run on the code the agent navigates with (with path
@@ -129,6 +131,18 @@ def spearman(x: np.ndarray, y: np.ndarray) -> float | None:
         return None
     rx, ry = np.argsort(np.argsort(x)), np.argsort(np.argsort(y))
     return float(np.corrcoef(rx, ry)[0, 1])
+
+
+def across_walls(rates: np.ndarray, places: np.ndarray, path_distance: np.ndarray) -> float | None:
+    """Mean place-code cosine over pairs less than 1 m apart in a straight line but more than
+    ``TWIN_PATH`` apart by path (on the two sides of a thin wall); None if there are none."""
+    norm = np.linalg.norm(rates, axis=1)
+    straight = np.linalg.norm(places[:, None, :] - places[None, :, :], axis=2)
+    pairs = (straight < 1.0) & (path_distance > TWIN_PATH) & (norm[:, None] > 0) & (norm[None, :] > 0)
+    if not pairs.any():
+        return None
+    i, j = np.nonzero(pairs)
+    return float(np.mean(np.sum(rates[i] * rates[j], axis=1) / (norm[i] * norm[j])))
 
 
 def twin_share(rates: np.ndarray, path_distance: np.ndarray) -> float | None:
@@ -297,6 +311,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         if run == args_runs - 1:
             rates = agent.place_field_map(env, places)
             per_trial[-1]["twins"] = twin_share(np.nan_to_num(rates), place_distance)
+            per_trial[-1]["across_walls"] = across_walls(np.nan_to_num(rates), places, place_distance)
             if config.path_integration:
                 bvc = np.array([agent.place_rates_at(env.unwrapped.observation_at(p)) for p in places])
                 per_trial[-1]["twins_bvc"] = twin_share(bvc, place_distance)
@@ -331,6 +346,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         "runs_2_4_below_1": float((later < 1).mean()),
         "twins": med([t.get("twins") for t in per_trial]),
         "twins_bvc": med([t.get("twins_bvc") for t in per_trial]),
+        "similarity_across_walls": med([t.get("across_walls") for t in per_trial]),
         "reward_map_coverage": med([t["coverage"] for t in per_trial]),
         "reward_map_spearman": med([t["spearman"] for t in per_trial]),
         "replay_reach_median_m": [med([r[i][0] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
