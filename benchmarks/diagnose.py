@@ -3,7 +3,7 @@
 Runs DMTP days with the agent, watching it from outside (this harness reads the true position;
 the agent never does) and measures, per maze:
 
-- **across walls**: the mean place-code cosine of places less than 1 m apart in a straight line
+- **across walls**: the mean place-code cosine of places less than 1.5 m apart in a straight line
   but more than 2 m apart by path (the two sides of a thin wall).
 - **twins**: the share of places (a 0.5 m grid over the free space) whose place code has a
   distant look-alike: another place more than 2 m away by path whose place-rate vector has cosine
@@ -39,6 +39,7 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from benchmarks.paper import spearman
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
 from hippo_env.maze import MazeSpec
@@ -46,6 +47,7 @@ from hippo_env.protocol import run_dmtp
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5
+ACROSS_STRAIGHT = 1.5  # m in a straight line: closer than this but far by path = the two sides of a wall
 SAMPLE_SPACING = 0.5  # m between sampled places
 GRAPH_SPACING = 0.1  # m, grid of the geodesic graph
 
@@ -125,20 +127,12 @@ def sample_places(spec: MazeSpec, spacing: float = SAMPLE_SPACING) -> np.ndarray
     return points[[spec.clearance(p) >= 0.3 for p in points]]
 
 
-def spearman(x: np.ndarray, y: np.ndarray) -> float | None:
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    if len(x) < 5 or np.ptp(x) == 0 or np.ptp(y) == 0:
-        return None
-    rx, ry = np.argsort(np.argsort(x)), np.argsort(np.argsort(y))
-    return float(np.corrcoef(rx, ry)[0, 1])
-
-
 def across_walls(rates: np.ndarray, places: np.ndarray, path_distance: np.ndarray) -> float | None:
-    """Mean place-code cosine over pairs less than 1 m apart in a straight line but more than
+    """Mean place-code cosine over pairs less than ``ACROSS_STRAIGHT`` apart in a straight line but more than
     ``TWIN_PATH`` apart by path (on the two sides of a thin wall); None if there are none."""
     norm = np.linalg.norm(rates, axis=1)
     straight = np.linalg.norm(places[:, None, :] - places[None, :, :], axis=2)
-    pairs = (straight < 1.0) & (path_distance > TWIN_PATH) & (norm[:, None] > 0) & (norm[None, :] > 0)
+    pairs = (straight < ACROSS_STRAIGHT) & (path_distance > TWIN_PATH) & (norm[:, None] > 0) & (norm[None, :] > 0)
     if not pairs.any():
         return None
     i, j = np.nonzero(pairs)
