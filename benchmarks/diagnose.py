@@ -3,7 +3,7 @@
 Runs DMTP days with the agent, watching it from outside (this harness reads the true position;
 the agent never does) and measures, per maze:
 
-- **across walls**: the mean place-code cosine of places less than 1.5 m apart in a straight line
+- **across walls**: the mean place-code cosine of places less than 1.6 m apart in a straight line
   but more than 2 m apart by path (the two sides of a thin wall).
 - **twins**: the share of places (a 0.5 m grid over the free space) whose place code has a
   distant look-alike: another place more than 2 m away by path whose place-rate vector has cosine
@@ -47,7 +47,7 @@ from hippo_env.protocol import run_dmtp
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5
-ACROSS_STRAIGHT = 1.5  # m in a straight line: closer than this but far by path = the two sides of a wall
+ACROSS_STRAIGHT = 1.6  # m in a straight line (on the 0.5 m grid the nearest places on the two sides of a 0.3 m wall are 1.5 m apart)
 SAMPLE_SPACING = 0.5  # m between sampled places
 GRAPH_SPACING = 0.1  # m, grid of the geodesic graph
 

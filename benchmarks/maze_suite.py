@@ -40,6 +40,10 @@ class SuiteArgs:
     """processes"""
     dry_run_steps: int = -1
     """pre-exploration steps (-1: the config's default)"""
+    config: str = ""
+    """more AgentConfig fields as JSON, e.g. '{"pi_motion_noise": 0.05}'"""
+    env: str = ""
+    """more environment arguments as JSON, e.g. '{"odometry_noise": 0.05, "heading_noise": 0.035}'"""
     out: str = ""
     """output JSON ('' = benchmarks/results/maze_suite_<model>.json)"""
 
@@ -56,15 +60,18 @@ def maze_source(name: str) -> str:
     return str(path)
 
 
-def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int) -> dict[str, Any]:
+def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, config_json: str = "", env_json: str = "") -> dict[str, Any]:
     from hippo_agent import AgentConfig, HippocampalAgent
     from hippo_env.protocol import run_dmtp
 
     overrides = {} if dry_run_steps < 0 else {"dry_run_steps": dry_run_steps}
+    overrides.update(json.loads(config_json) if config_json else {})
     config = AgentConfig.paper(**overrides) if model == "paper" else AgentConfig(**overrides)
+    env_kwargs = {"odometry": True} if config.path_integration else {}
+    env_kwargs.update(json.loads(env_json) if env_json else {})
     began = time.process_time()
     result = run_dmtp(lambda o, a, seed: HippocampalAgent(o, a, config, seed=seed), maze_source(maze), trials=trials, runs=4,
-                      seed=seed, env_kwargs={"odometry": True} if config.path_integration else None, progress=False)
+                      seed=seed, env_kwargs=env_kwargs, progress=False)
     ind, ok = result.indirectness(), result.success()
     summary = result.summary()
     later = ind[:, 1:]
@@ -88,7 +95,7 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(f"--model {args.model!r} is unknown; allowed: default, paper")
     mazes = args.mazes or (*BUILT_IN, *(f"gen-{k}-{s}" for k, s in GENERATED))
     load_start = load_average()
-    jobs = [(args.model, m, s, args.trials, args.dry_run_steps) for m in mazes for s in args.seeds]
+    jobs = [(args.model, m, s, args.trials, args.dry_run_steps, args.config, args.env) for m in mazes for s in args.seeds]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         futures = [pool.submit(one, *job) for job in jobs]
         rows = []
