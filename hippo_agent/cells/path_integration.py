@@ -86,16 +86,15 @@ class PathIntegrator:
 
     def start_run(self) -> None:
         """A run begins. The first ever run sets the frame (origin here); later ones are kidnaps."""
+        self.last_step = np.zeros(2)
         if not self.frame_started:
             self.frame_started = True
             self.particles[:] = 0.0
-            self.last_step = np.zeros(2)
             self.weights[:] = 1.0 / self.n_particles
             self.estimate = np.zeros(2)
             self.confidence = 1.0
             self.anchored = True
         else:
-            self.last_step = np.zeros(2)
             self.anchored = False
             self.fresh = True
             self.confidence = 0.0
