@@ -557,9 +557,9 @@ def task_dmtp_trial(maze: str, seed: int, runs: int, same_start: bool, config: A
         if run != 0 or not map_roam_steps:
             return
         positions = roam(maze, map_roam_steps, seed + 1)
-        analysis = make_env(maze)
-        values = agent.reward_map(analysis, positions)  # the reward cell's rate, no learning
-        analysis.close()
+        # the reward cell's rate, no learning; the run's own env, so that a path-integrating agent's
+        # frame is placed where the robot stands (observation_at moves nothing)
+        values = agent.reward_map(env, positions)
         goal = env.unwrapped.goal
         path = env.unwrapped.path.copy()
         captured.update({
@@ -651,7 +651,8 @@ def replay_at(agent: HippocampalAgent, env: gym.Env, goal: Any) -> bool:
     (the one attribute touched); everything else is the agent's public API.
     """
     agent.start_trial(agent.trial + 1)
-    agent.place.v = agent.place_rates_at(env.unwrapped.observation_at(np.asarray(goal, float)))
+    goal = np.asarray(goal, float)  # (with path integration: as if localised at the goal)
+    agent.place.v = agent.place_rates_at(env.unwrapped.observation_at(goal), pi_position=goal - agent.frame_offset(env))
     return agent.learn_reward()
 
 
