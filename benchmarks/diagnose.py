@@ -18,8 +18,11 @@ the agent never does) and measures, per maze:
   step, as a share of the step's length (1 = straight down the shortest path).
 - **exploit**: in runs 2-4, the share of steps where the agent fell back to exploring, and bumps
   per exploiting step.
-- **path integration**: the median distance between the estimate and the true position in the
-  agent's frame over anchored steps, and the steps from a run's start to anchoring.
+- **path integration**: the median and 90th-percentile distance between the estimate and the true
+  position in the agent's frame over the anchored steps of the DMTP runs (the dry run's, whose frame
+  starts where the robot stands, separately), the share of runs *misplaced* (anchored more than
+  1 m off on most of their steps), relocalisations per run, and the steps from a run's start to
+  anchoring.
 - ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
   estimate is replaced by the true position at every step (exact self-localisation).
 
@@ -50,6 +53,7 @@ TWIN_COSINE = 0.5
 ACROSS_STRAIGHT = 1.6  # m in a straight line (on the 0.5 m grid the nearest places on the two sides of a 0.3 m wall are 1.5 m apart)
 SAMPLE_SPACING = 0.5  # m between sampled places
 GRAPH_SPACING = 0.1  # m, grid of the geodesic graph
+MISPLACED = 1.0  # m: a run whose path-integration estimate is mostly farther off than this is misplaced
 
 
 @dataclasses.dataclass
@@ -176,9 +180,11 @@ class Watcher:
             pi.__dict__.update(agent.pi.__dict__)
             agent.pi = pi
         self.run = -1
-        self.pi_errors: list[float] = []
-        self.dry_pi_errors: list[float] = []
+        self.in_dry_run = False
+        self.dry_pi_errors: list[float] = []  # the dry run's (its frame starts where the robot stands)
+        self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
         self.anchor_steps: list[int] = []
+        self.dry_relocalisations = 0
         self.progress: list[float] = []
         self.exploit_bumps = 0
         self.exploit_steps = 0
@@ -206,11 +212,13 @@ class Watcher:
             inner._after(info)
 
         agent.reset, agent.observe = reset, observe  # watch the agent's own pre-exploration loop
+        self.in_dry_run = True
         try:
             agent.prepare(env)
         finally:
             del agent.reset, agent.observe
-        self.dry_pi_errors = list(self.pi_errors)
+            self.in_dry_run = False
+        self.dry_relocalisations = agent.pi.relocalisations
 
     def start_trial(self, trial: int) -> None:
         self.agent.start_trial(trial)
@@ -218,6 +226,7 @@ class Watcher:
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
         self.run += 1
+        self.run_pi_errors.append([])
         self._saw(info, reset=True)
         self.agent.reset(observation, info)
         self._after(info)
@@ -266,11 +275,20 @@ class Watcher:
         pi = self.agent.pi
         if not self.agent.config.path_integration or not pi.anchored:
             return
+        truth = np.asarray(info["position"], float) - self.origin
+        error = float(np.linalg.norm(pi.estimate - truth))
+        if self.in_dry_run:
+            self.dry_pi_errors.append(error)
+            return
         if self._anchored_at is None:
             self._anchored_at = self._steps_in_run
             self.anchor_steps.append(self._steps_in_run)
-        truth = np.asarray(info["position"], float) - self.origin
-        self.pi_errors.append(float(np.linalg.norm(pi.estimate - truth)))
+        self.run_pi_errors[-1].append(error)
+
+    @property
+    def pi_errors(self) -> list[float]:
+        """The estimate's error on every anchored step of the DMTP runs."""
+        return [e for run in self.run_pi_errors for e in run]
 
 
 def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
@@ -322,6 +340,9 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         return float(np.median(values)) if values else None
 
     later = ind[:, 1:]
+    run_errors = [e for w in watchers for e in w.pi_errors]
+    # a run is misplaced when its estimate was more than MISPLACED m off on most of its anchored steps
+    misplaced = [float(np.median(run) > MISPLACED) for w in watchers for run in w.run_pi_errors if run]
     all_progress = [p for w in watchers for p in w.progress]
     exploit = sum(w.exploit_steps for w in watchers)
     later_steps = sum(w.steps_later for w in watchers)
@@ -348,8 +369,12 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         "preplay_progress": med(all_progress),
         "exploit_fallback_share": (1 - exploit / later_steps) if later_steps else None,
         "exploit_bumps_per_step": (sum(w.exploit_bumps for w in watchers) / exploit) if exploit else None,
-        "pi_error_median_m": med([e for w in watchers for e in w.pi_errors]),
-        "pi_error_p90_m": float(np.quantile([e for w in watchers for e in w.pi_errors], 0.9)) if any(w.pi_errors for w in watchers) else None,
+        "pi_error_median_m": med(run_errors),
+        "pi_error_p90_m": float(np.quantile(run_errors, 0.9)) if run_errors else None,
+        "pi_error_dry_run_median_m": med([e for w in watchers for e in w.dry_pi_errors]),
+        "runs_misplaced_share": float(np.mean(misplaced)) if misplaced else None,
+        "relocalisations_per_run": (sum(w.agent.pi.relocalisations - w.dry_relocalisations for w in watchers)
+                                    / max(1, sum(len(w.run_pi_errors) for w in watchers))),
         "anchor_steps_median": med([float(s) for w in watchers for s in w.anchor_steps]),
         "env_steps_total": result.env_steps_total,
         "per_trial": per_trial,

@@ -4,7 +4,8 @@
 built-in mazes and 5 generated ones (``hippo_env.generate``, seeds 100-104, never looked at while
 tuning) and writes ``benchmarks/results/maze_suite_<model>.json``: per maze and seed the median
 indirectness of each run, of runs 2-4 together, the share of runs 2-4 that reached the goal, and
-the run-1 length vs run-2 indirectness correlation. ``--model paper`` runs ``AgentConfig.paper()``.
+the run-1 length vs run-2 indirectness correlation; per maze, over all seeds, that correlation
+with its bootstrap interval. ``--model paper`` runs ``AgentConfig.paper()``.
 """
 
 from __future__ import annotations
@@ -89,6 +90,21 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
     }
 
 
+def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Per maze, every seed's days together: the run-1 length vs run-2 indirectness correlation
+    (Pearson r with a 95 % bootstrap interval over days; the paper's Fig. 6 gives r = -0.53)."""
+    from benchmarks.paper import pearson_with_ci
+
+    out: dict[str, dict[str, Any]] = {}
+    for maze in dict.fromkeys(r["maze"] for r in rows):
+        mine = [r for r in rows if r["maze"] == maze]
+        lengths = [x for r in mine for x in r["run1_lengths"]]
+        second = [np.nan if x is None else x for r in mine for x in r["run2_indirectness"]]
+        out[maze] = {"seeds": [r["seed"] for r in mine], "days": len(lengths),
+                     "pearson_run1_length_run2_indirectness": pearson_with_ci(np.array(lengths), np.array(second), seed=0)}
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(SuiteArgs, __doc__.splitlines()[0], argv)
     if args.model not in ("default", "paper"):
@@ -104,8 +120,14 @@ def main(argv: list[str] | None = None) -> None:
             r = rows[-1]
             print(f"{r['maze']:>18} seed {r['seed']}: runs 2-4 median {r['runs_2_4_median']:.2f}, reached {r['runs_2_4_reached']:.0%}, "
                   f"per run {[None if x is None else round(x, 2) for x in r['median_per_run']]}", flush=True)
+    pooled = pool_seeds(rows)
+    for maze, p in pooled.items():
+        r = p["pearson_run1_length_run2_indirectness"]
+        if r["r"] is not None:
+            print(f"{maze:>18} seeds {p['seeds']}: run-1 length vs run-2 indirectness r = {r['r']:.2f} "
+                  f"(95 % CI {r['ci95'][0]:.2f} to {r['ci95'][1]:.2f}, n = {r['n']})")
     record = {"command": command_line(), "model": args.model, "machine": machine_info(), "load_start": load_start,
-              "load_end": load_average(), "rows": rows}
+              "load_end": load_average(), "rows": rows, "pooled": pooled}
     out = Path(args.out) if args.out else REPO / "benchmarks" / "results" / f"maze_suite_{args.model}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(f".tmp{os.getpid()}")
