@@ -21,8 +21,7 @@ the agent never does) and measures, per maze:
 - **path integration**: the median and 90th-percentile distance between the estimate and the true
   position in the agent's frame over the anchored steps of the DMTP runs (the dry run's, whose frame
   starts where the robot stands, separately), the share of runs *misplaced* (anchored more than
-  1 m off on most of their steps), relocalisations per run, and the steps from a run's start to
-  anchoring.
+  1 m off on most of their steps), and the steps from a run's start to anchoring.
 - ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
   estimate is replaced by the true position at every step (exact self-localisation).
 
@@ -184,7 +183,6 @@ class Watcher:
         self.dry_pi_errors: list[float] = []  # the dry run's (its frame starts where the robot stands)
         self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
         self.anchor_steps: list[int] = []
-        self.dry_relocalisations = 0
         self.progress: list[float] = []
         self.exploit_bumps = 0
         self.exploit_steps = 0
@@ -218,7 +216,6 @@ class Watcher:
         finally:
             del agent.reset, agent.observe
             self.in_dry_run = False
-        self.dry_relocalisations = agent.pi.relocalisations
 
     def start_trial(self, trial: int) -> None:
         self.agent.start_trial(trial)
@@ -373,8 +370,6 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         "pi_error_p90_m": float(np.quantile(run_errors, 0.9)) if run_errors else None,
         "pi_error_dry_run_median_m": med([e for w in watchers for e in w.dry_pi_errors]),
         "runs_misplaced_share": float(np.mean(misplaced)) if misplaced else None,
-        "relocalisations_per_run": (sum(w.agent.pi.relocalisations - w.dry_relocalisations for w in watchers)
-                                    / max(1, sum(len(w.run_pi_errors) for w in watchers))),
         "anchor_steps_median": med([float(s) for w in watchers for s in w.anchor_steps]),
         "env_steps_total": result.env_steps_total,
         "per_trial": per_trial,
