@@ -160,7 +160,7 @@ class OracleIntegrator(PathIntegrator):
 
     truth: np.ndarray | None = None
 
-    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0) -> None:
+    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0, spreads: np.ndarray | None = None) -> None:
         if self.truth is not None:
             self.estimate = self.truth.copy()
             self.confidence = 1.0

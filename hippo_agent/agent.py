@@ -57,7 +57,7 @@ ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
 PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 2  # 2: path integration (odometry, centres, the integrator's belief)
+FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
 
 
 def _wrap(angle: float) -> float:
@@ -331,6 +331,8 @@ class HippocampalAgent:
             self.place.learn_pb(b)
         if plastic and c.path_integration:
             self.place.learn_centres(self.pi.lagged_estimate(), c.pi_centre_max_mass)
+            if c.pi_vote_by_spread:
+                self.place.learn_spread(self.pi.lagged_estimate(), c.pi_centre_max_mass)
         self.place.update_hd_trace(h)
         learn_pp = (not dry or c.learn_pp_in_dry_run) and (c.learn_pp_in_exploitation or self.last_decision == "explore")
         if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
@@ -514,7 +516,8 @@ class HippocampalAgent:
         "trace": ("place", "trace"), "hd_trace": ("place", "hd_trace"), "hd_rates": ("hd", "rates"),
         "bvc_rates": ("bvc", "rates"), "last_values": ("agent", "last_values"),
         "s_sense": ("place", "s_sense"), "v_sense": ("place", "v_sense"), "centres": ("place", "centres"),
-        "centre_mass": ("place", "centre_mass"), "pi_particles": ("pi", "particles"), "pi_weights": ("pi", "weights"),
+        "centre_mass": ("place", "centre_mass"), "spread": ("place", "spread"), "spread_mass": ("place", "spread_mass"),
+        "pi_particles": ("pi", "particles"), "pi_weights": ("pi", "weights"),
         "pi_estimate": ("pi", "estimate"), "pi_last_step": ("pi", "last_step"),
     }
     _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")

@@ -229,6 +229,13 @@ class AgentConfig:
     the path-integration input and all plasticity are off."""
     pi_redraw_fraction: float = 0.2
     """While not anchored, this share of the samples is drawn afresh around the voted centres each step."""
+    pi_vote_by_spread: bool = True
+    """Each cell learns how far from its centre the boundary code alone fires it (its spread), and
+    votes for positions with a normalised Gaussian that wide: cells that also fire at distant
+    look-alike places vote broadly and weakly. Why: without it, a run's estimate was anchored at
+    a look-alike place in 10 % of maze4's runs (``benchmarks.diagnose --maze maze4 --seed 2``;
+    3 % with it). Tuned on seeds 2 and 3 (20 days each in open, maze1, maze2 and maze4): run 2
+    better in 95 paired days, worse in 58."""
 
     # ------------------------------------------------------------------------------------------
     @classmethod

@@ -260,12 +260,7 @@ def test_determinism_by_seed(action_type):
     assert not np.array_equal(ag1.place.W_pb, ag3.place.W_pb)
 
 
-@pytest.mark.parametrize("paper", [
-    True,
-    pytest.param(False, marks=pytest.mark.xfail(strict=True, reason=(
-        "known weakness: in this 4 m arena the default model's run 2 has median indirectness 1.18 over seeds 0-4 "
-        "(it reaches the goal every time); in the 10 m mazes its runs 2-4 medians are 0.16-0.55 (README)"))),
-])
+@pytest.mark.parametrize("paper", [True, False])
 def test_exploitation_reaches_the_goal_after_one_rewarded_run(small_maze, paper):
     """A 4 m x 4 m arena: run 1 explores to the goal; run 2 from the same start exploits."""
     results = []

@@ -109,6 +109,37 @@ def test_two_look_alike_places_stay_unresolved_until_the_senses_differ():
     assert pi.anchored and pi.estimate[0] > 1.5
 
 
+def test_cells_that_also_fire_at_a_look_alike_place_vote_weakly():
+    pi = integrator()
+    pi.start_run()
+    pi.start_run()
+    # two cells vote for the west place, one for the east; the two have been seen firing 4 m from
+    # their centres (they fire at a look-alike place too), the east one only at its centre
+    rates, centres = np.array([0.5, 0.5, 0.5]), np.array([[-2.0, 0.0], [-2.05, 0.0], [2.0, 0.0]])
+    for _ in range(30):
+        pi.correct(rates, centres, 1.0, np.array([16.0, 16.0, 0.01]))
+    assert pi.anchored and pi.estimate[0] > 1.5
+    without = integrator()
+    without.start_run()
+    without.start_run()
+    for _ in range(30):
+        without.correct(rates, centres)
+    assert without.anchored and without.estimate[0] < -1.5  # every vote alike: the majority wins
+
+
+def test_place_cells_learn_how_far_from_their_centre_the_boundary_code_fires_them():
+    from hippo_agent.cells import PlaceCells
+
+    place = PlaceCells(3, 4, 8, np.random.default_rng(0))
+    place.centres[:] = [[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]]
+    place.centre_mass[:] = [1.0, 1.0, 0.0]  # the third has no centre yet
+    for position in ([0.0, 0.0], [4.0, 0.0]) * 20:  # cell 0 fires at its centre and 4 m away
+        place.v_sense[:] = [1.0, 0.0, 1.0]
+        place.learn_spread(np.array(position), max_mass=1000.0)
+    assert 6.0 < place.spread[0] < 10.0  # about the mean of 0 and 16 m^2
+    assert place.spread[1] == 0.0 and place.spread[2] == 0.0  # silent, and without a centre
+
+
 # ------------------------------------------------------------------ the agent
 def test_the_default_agent_needs_odometry_and_says_how_to_get_it():
     env = gym.make("HippoMaze-v0")

@@ -107,7 +107,7 @@ class PathIntegrator:
         if spread > 0:
             self.particles += self.rng.normal(0.0, spread, self.particles.shape)
 
-    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0) -> None:
+    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0, spreads: np.ndarray | None = None) -> None:
         """Weigh the samples by the sensory vote of cells with ``rates`` > 0 and ``centres``.
 
         ``rates`` and ``centres`` are those of the active cells that have a centre; ``mapped`` is
@@ -115,14 +115,21 @@ class PathIntegrator:
         ``min_mapped`` is ignored: at the edge of the map only the cells behind the robot have
         centres, and their vote would pull the estimate back. With no voting cell there is no
         evidence and the samples keep their weights.
+
+        ``spreads`` (m^2, ``None`` = 0) is how far from its centre each cell is also known to fire
+        on boundary input alone: a cell's vote is a 2-D Gaussian of variance ``vote_sigma^2 +
+        spread`` around its centre, normalised, so a cell that also fires at a distant look-alike
+        place votes broadly and weakly, and the cells that fire in one place only decide.
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
+            variance = self.vote_sigma**2 + (0.0 if spreads is None else np.asarray(spreads, dtype=np.float64))
+            reliability = rates * (self.vote_sigma**2 / variance)  # each cell's say
             if not self.anchored:
-                self._redraw(rates, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
+                self._redraw(reliability, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
                 self.fresh = False
             then = self.particles - self.lag * self.last_step
             d2 = ((then[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
-            vote = np.exp(-d2 / (2.0 * self.vote_sigma**2)) @ rates / rates.sum()
+            vote = np.exp(-d2 / (2.0 * variance)) @ reliability / rates.sum()
             w = self.weights * (vote + VOTE_FLOOR)
             self.weights = w / w.sum()
             if 1.0 / float(np.sum(self.weights**2)) < 0.5 * self.n_particles:

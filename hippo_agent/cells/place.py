@@ -92,6 +92,8 @@ class PlaceCells:
         self.v_sense = np.zeros(self.n)
         self.centres = np.zeros((self.n, 2))
         self.centre_mass = np.zeros(self.n)  # 0: no centre yet
+        self.spread = np.zeros(self.n)  # m^2: how far from its centre the boundary code alone fires the cell
+        self.spread_mass = np.zeros(self.n)
 
     @property
     def _W_pb_blocks(self) -> list[np.ndarray]:
@@ -185,15 +187,29 @@ class PlaceCells:
         self.centres[act] += rate[:, None] * (position - self.centres[act])
         self.centre_mass[act] = mass
 
-    def sensory_vote(self, min_mass: float) -> tuple[np.ndarray, np.ndarray, float]:
+    def learn_spread(self, position: np.ndarray, max_mass: float) -> None:
+        """Each cell with a centre that the boundary code alone fires here learns how far from its
+        centre that happens: a running mean of the squared distance, weighted by the BVC-only rate.
+        A cell the boundary code also fires at a distant look-alike place gets a wide spread."""
+        act = np.flatnonzero((self.v_sense > 0.0) & (self.centre_mass > 0.0))
+        if act.size == 0:
+            return
+        rates = self.v_sense[act]
+        mass = np.minimum(self.spread_mass[act] + rates, max_mass)
+        d2 = ((self.centres[act] - position) ** 2).sum(axis=1)
+        self.spread[act] += rates / mass * (d2 - self.spread[act])
+        self.spread_mass[act] = mass
+
+    def sensory_vote(self, min_mass: float) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
         """(rates, centres) of the cells active in the BVC-only response whose centre has
-        accumulated at least ``min_mass``, and their share of all the BVC-only activity (low at
-        the edge of what has been mapped, where cells without a centre yet are active)."""
+        accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
+        the edge of what has been mapped, where cells without a centre yet are active), and their
+        spreads (:meth:`learn_spread`)."""
         on = self.v_sense > 0.0
         act = np.flatnonzero(on & (self.centre_mass >= min_mass))
         total = float(self.v_sense[on].sum())
         share = float(self.v_sense[act].sum()) / total if total > 0 else 0.0
-        return self.v_sense[act], self.centres[act], share
+        return self.v_sense[act], self.centres[act], share, self.spread[act]
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
