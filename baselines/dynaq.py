@@ -21,7 +21,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from baselines.hyperparams import DynaQParams, make_params, params_dict
+from .hyperparams import DynaQParams, make_params, params_dict
 
 
 class DynaQAgent:
@@ -31,7 +31,7 @@ class DynaQAgent:
         observation_space: The env's observation space (unused: this agent reads the position).
         action_space: ``Discrete(n)``.
         seed: Seeds the epsilon-greedy draws, tie-breaking and planning samples.
-        params: A :class:`~baselines.hyperparams.DynaQParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.DynaQParams`; ``None`` = the defaults.
         **overrides: Fields of ``DynaQParams`` to change.
     """
 

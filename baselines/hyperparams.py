@@ -23,7 +23,7 @@ non-learned scaling: the scan is divided by ``max_range`` so every input lies in
 Observation
 -----------
 The baselines get exactly the hippocampal agent's observation, ``Dict(ranges, heading)``, turned into
-one flat vector by :class:`baselines.sb3_agents.ScanFeatures` (the brief allows "flattened"):
+one flat vector by :class:`hippomaze.baselines.sb3_agents.ScanFeatures` (the brief allows "flattened"):
 
 - ``allocentric=True`` rotates the egocentric scan by the compass heading so that bin ``j`` looks
   along the world direction ``2*pi*j/n_bins``. This is the same use of the compass that the

@@ -39,7 +39,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from baselines.hyperparams import DQNParams, PPOParams, make_params, params_dict
+from .hyperparams import DQNParams, PPOParams, make_params, params_dict
 
 INSTALL_HINT = "pip install torch==2.13.0 && pip install -e .[baselines]"
 
@@ -61,7 +61,7 @@ class ScanFeatures:
         observation_space: The environment's ``Dict(ranges=Box, heading=Box)`` space.
         n_bins: Equal angular sectors the rays are mean-pooled into (must divide the ray count).
         allocentric: Rotate the scan by the compass heading so that bin ``j`` looks along the
-            world direction ``2*pi*j/n_bins`` (see :mod:`baselines.hyperparams`).
+            world direction ``2*pi*j/n_bins`` (see :mod:`hippomaze.baselines.hyperparams`).
     """
 
     def __init__(self, observation_space: gym.spaces.Space, n_bins: int = 90, allocentric: bool = True) -> None:
@@ -251,7 +251,7 @@ class DQNAgent(_SB3Agent):
         observation_space: The env's ``Dict(ranges, heading)`` space.
         action_space: ``Discrete(n)``.
         seed: Seeds the network, the replay sampling and the epsilon-greedy draws.
-        params: A :class:`~baselines.hyperparams.DQNParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.DQNParams`; ``None`` = the defaults.
         **overrides: Fields of ``DQNParams`` to change (e.g. ``learning_rate=1e-3``).
     """
 
@@ -338,7 +338,7 @@ class PPOAgent(_SB3Agent):
         observation_space: The env's ``Dict(ranges, heading)`` space.
         action_space: ``Discrete(n)``.
         seed: Seeds the networks, the minibatch shuffling and the action draws.
-        params: A :class:`~baselines.hyperparams.PPOParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.PPOParams`; ``None`` = the defaults.
         **overrides: Fields of ``PPOParams`` to change (e.g. ``ent_coef=0.01``).
     """
 

@@ -45,7 +45,7 @@ from benchmarks.paper import spearman
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
 from hippo_env.maze import MazeSpec
-from hippo_env.protocol import run_dmtp
+from hippo_env.dmtp import run_dmtp
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5

@@ -55,105 +55,110 @@ class Args:
     """where the JSON goes (relative to the repository root unless absolute)"""
 
 
-args = parse_dataclass_args(Args, __doc__.splitlines()[0])
-rng = np.random.default_rng(args.seed)
-load_at_start = load_average()
-print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    rng = np.random.default_rng(args.seed)
+    load_at_start = load_average()
+    print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
 
 
-# ---------------------------------------------------------------------- one env through gym.make
-def time_single(maze: str, n_rays: int) -> tuple[list[float], list[float]]:
-    """Steps per wall-clock second and per CPU second of this process (the second is robust to other load)."""
-    env = gym.make("HippoMaze-v0", maze=maze, n_rays=n_rays)
-    env.reset(seed=args.seed)
-    actions = rng.integers(0, 8, args.warmup + args.repeats * args.steps).tolist()
-    wall, cpu = [], []
-    for k in range(args.warmup):
-        _, _, terminated, truncated, _ = env.step(actions[k])
-        if terminated or truncated:
-            env.reset()
-    for r in range(args.repeats):
-        chunk = actions[args.warmup + r * args.steps : args.warmup + (r + 1) * args.steps]
-        began, began_cpu = time.perf_counter(), time.process_time()
-        for action in chunk:
-            _, _, terminated, truncated, _ = env.step(action)
+    # ---------------------------------------------------------------------- one env through gym.make
+    def time_single(maze: str, n_rays: int) -> tuple[list[float], list[float]]:
+        """Steps per wall-clock second and per CPU second of this process (the second is robust to other load)."""
+        env = gym.make("HippoMaze-v0", maze=maze, n_rays=n_rays)
+        env.reset(seed=args.seed)
+        actions = rng.integers(0, 8, args.warmup + args.repeats * args.steps).tolist()
+        wall, cpu = [], []
+        for k in range(args.warmup):
+            _, _, terminated, truncated, _ = env.step(actions[k])
             if terminated or truncated:
                 env.reset()
-        wall.append(args.steps / (time.perf_counter() - began))
-        cpu.append(args.steps / (time.process_time() - began_cpu))
-    env.close()
-    return wall, cpu
-
-
-single = []
-for n_rays in args.rays:
-    for maze in args.mazes:
-        wall, cpu = time_single(maze, n_rays)
-        single.append(
-            {
-                "maze": maze,
-                "n_rays": n_rays,
-                "steps_per_second": round(statistics.median(wall)),
-                "steps_per_cpu_second": round(statistics.median(cpu)),
-                "repeats": [round(r) for r in wall],
-            }
-        )
-        print(
-            f"  gym.make   {maze:6s} {n_rays:4d} rays: {statistics.median(wall):9,.0f} steps/s ({statistics.median(cpu):,.0f} per CPU second)"
-        )
-
-
-# ---------------------------------------------------------------------- vector envs
-vector = []
-for mode in args.vec_modes if args.vec_envs > 0 else ():
-    for maze in args.mazes:
-        envs = gym.make_vec("HippoMaze-v0", num_envs=args.vec_envs, vectorization_mode=mode, maze=maze, n_rays=args.vec_rays)
-        envs.reset(seed=args.seed)
-        actions = rng.integers(0, 8, (args.warmup + args.repeats * args.vec_steps, args.vec_envs))
-        for k in range(args.warmup):
-            envs.step(actions[k])  # the vector env resets finished episodes itself
-        rates = []
         for r in range(args.repeats):
-            began = time.perf_counter()
-            for action in actions[args.warmup + r * args.vec_steps : args.warmup + (r + 1) * args.vec_steps]:
-                envs.step(action)
-            rates.append(args.vec_steps * args.vec_envs / (time.perf_counter() - began))
-        envs.close()
-        vector.append(
-            {
-                "mode": mode,
-                "maze": maze,
-                "n_rays": args.vec_rays,
-                "num_envs": args.vec_envs,
-                "env_steps_per_second": round(statistics.median(rates)),
-                "repeats": [round(r) for r in rates],
-            }
-        )
-        print(
-            f"  {mode:5s} x{args.vec_envs}   {maze:6s} {args.vec_rays:4d} rays: {statistics.median(rates):9,.0f} env steps/s (all sub-envs)"
-        )
+            chunk = actions[args.warmup + r * args.steps : args.warmup + (r + 1) * args.steps]
+            began, began_cpu = time.perf_counter(), time.process_time()
+            for action in chunk:
+                _, _, terminated, truncated, _ = env.step(action)
+                if terminated or truncated:
+                    env.reset()
+            wall.append(args.steps / (time.perf_counter() - began))
+            cpu.append(args.steps / (time.process_time() - began_cpu))
+        env.close()
+        return wall, cpu
 
 
-# ---------------------------------------------------------------------- the record
-at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
-at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
-record = {
-    "command": command_line(),
-    "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-    "args": dataclasses.asdict(args),
-    "machine": machine_info(
-        numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
-    )
-    | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
-    "single_env": single,
-    "vector_env": vector,
-    "target_steps_per_second_720_rays": args.target,
-    "min_steps_per_second_720_rays": min(at_target_rays) if at_target_rays else None,
-    "min_steps_per_cpu_second_720_rays": min(at_target_rays_cpu) if at_target_rays_cpu else None,
-    "meets_target": bool(at_target_rays) and min(at_target_rays) >= args.target,
-}
-out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-out.parent.mkdir(parents=True, exist_ok=True)
-hippo_env.write_json(out, record)
-slowest = record["min_steps_per_second_720_rays"]
-print(f"wrote {out}" + (f"; slowest maze at 720 rays: {slowest:,} steps/s (target {args.target:,.0f})" if slowest else ""))
+    single = []
+    for n_rays in args.rays:
+        for maze in args.mazes:
+            wall, cpu = time_single(maze, n_rays)
+            single.append(
+                {
+                    "maze": maze,
+                    "n_rays": n_rays,
+                    "steps_per_second": round(statistics.median(wall)),
+                    "steps_per_cpu_second": round(statistics.median(cpu)),
+                    "repeats": [round(r) for r in wall],
+                }
+            )
+            print(
+                f"  gym.make   {maze:6s} {n_rays:4d} rays: {statistics.median(wall):9,.0f} steps/s ({statistics.median(cpu):,.0f} per CPU second)"
+            )
+
+
+    # ---------------------------------------------------------------------- vector envs
+    vector = []
+    for mode in args.vec_modes if args.vec_envs > 0 else ():
+        for maze in args.mazes:
+            envs = gym.make_vec("HippoMaze-v0", num_envs=args.vec_envs, vectorization_mode=mode, maze=maze, n_rays=args.vec_rays)
+            envs.reset(seed=args.seed)
+            actions = rng.integers(0, 8, (args.warmup + args.repeats * args.vec_steps, args.vec_envs))
+            for k in range(args.warmup):
+                envs.step(actions[k])  # the vector env resets finished episodes itself
+            rates = []
+            for r in range(args.repeats):
+                began = time.perf_counter()
+                for action in actions[args.warmup + r * args.vec_steps : args.warmup + (r + 1) * args.vec_steps]:
+                    envs.step(action)
+                rates.append(args.vec_steps * args.vec_envs / (time.perf_counter() - began))
+            envs.close()
+            vector.append(
+                {
+                    "mode": mode,
+                    "maze": maze,
+                    "n_rays": args.vec_rays,
+                    "num_envs": args.vec_envs,
+                    "env_steps_per_second": round(statistics.median(rates)),
+                    "repeats": [round(r) for r in rates],
+                }
+            )
+            print(
+                f"  {mode:5s} x{args.vec_envs}   {maze:6s} {args.vec_rays:4d} rays: {statistics.median(rates):9,.0f} env steps/s (all sub-envs)"
+            )
+
+
+    # ---------------------------------------------------------------------- the record
+    at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
+    at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
+    record = {
+        "command": command_line(),
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "args": dataclasses.asdict(args),
+        "machine": machine_info(
+            numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
+        )
+        | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
+        "single_env": single,
+        "vector_env": vector,
+        "target_steps_per_second_720_rays": args.target,
+        "min_steps_per_second_720_rays": min(at_target_rays) if at_target_rays else None,
+        "min_steps_per_cpu_second_720_rays": min(at_target_rays_cpu) if at_target_rays_cpu else None,
+        "meets_target": bool(at_target_rays) and min(at_target_rays) >= args.target,
+    }
+    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    hippo_env.write_json(out, record)
+    slowest = record["min_steps_per_second_720_rays"]
+    print(f"wrote {out}" + (f"; slowest maze at 720 rays: {slowest:,} steps/s (target {args.target:,.0f})" if slowest else ""))
+
+
+if __name__ == "__main__":
+    main()

@@ -33,16 +33,21 @@ class Args:
     """where the PNG goes (relative to the repository root unless absolute)"""
 
 
-args = parse_dataclass_args(Args, __doc__.splitlines()[0])
-fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
-for ax, maze in zip(axes[0], args.mazes):
-    plot_maze(maze, ax=ax)
-    ax.set_xticks([-5, 0, 5])
-    ax.set_yticks([-5, 0, 5])
-    if ax is not axes[0][0]:
-        ax.set_ylabel("")
-fig.tight_layout()
-out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-out.parent.mkdir(parents=True, exist_ok=True)
-fig.savefig(out, dpi=args.dpi)
-print(f"wrote {out}")
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
+    for ax, maze in zip(axes[0], args.mazes):
+        plot_maze(maze, ax=ax)
+        ax.set_xticks([-5, 0, 5])
+        ax.set_yticks([-5, 0, 5])
+        if ax is not axes[0][0]:
+            ax.set_ylabel("")
+    fig.tight_layout()
+    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=args.dpi)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -63,7 +63,7 @@ def maze_source(name: str) -> str:
 
 def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, config_json: str = "", env_json: str = "") -> dict[str, Any]:
     from hippo_agent import AgentConfig, HippocampalAgent
-    from hippo_env.protocol import run_dmtp
+    from hippo_env.dmtp import run_dmtp
 
     overrides = {} if dry_run_steps < 0 else {"dry_run_steps": dry_run_steps}
     overrides.update(json.loads(config_json) if config_json else {})

@@ -1,6 +1,6 @@
 """HippocampalAgent: the paper's model (head direction, BVC, place and reward cells) as a policy.
 
-The agent follows the protocol in :mod:`hippo_env.protocol` (``prepare`` / ``start_trial`` /
+The agent follows the protocol in :mod:`hippo_env.agent_protocol` (``prepare`` / ``start_trial`` /
 ``reset`` / ``act`` / ``observe``). It sees only the observation (the rangefinder scan and the
 compass heading), the reward, and the bump sensor ``info["collision"]``; never the position or
 the goal.
@@ -50,6 +50,7 @@ import numpy as np
 
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
 from hippo_agent.config import AgentConfig
+from hippo_env.dmtp import rollout
 
 __all__ = ["HippocampalAgent"]
 
@@ -244,11 +245,12 @@ class HippocampalAgent:
         try:
             obs, info = env.reset(options={"goal": None})
             self.reset(obs, info)
-            for _ in range(self.config.dry_run_steps):
-                action = self.act(obs)
-                obs, reward, terminated, truncated, info = env.step(action)
-                self.observe(action, obs, reward, terminated, truncated, info)
-                if terminated or truncated:
+            remaining = self.config.dry_run_steps
+            while remaining > 0:
+                end = rollout(env, self, obs, max_steps=remaining)
+                remaining -= end.steps
+                obs = end.observation
+                if end.terminated or end.truncated:
                     obs, info = env.reset(options={"goal": None})
                     self.reset(obs, info)
         finally:

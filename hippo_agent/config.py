@@ -8,7 +8,7 @@ which reading was chosen and why. Sources:
   implementation).
 - **feasibility**: ``shared/reference/feasibility.md`` (a prototype's measurements; its best row is
   our starting point: trace rate 0.2, 20 replay iterations, lambda 0.05, tau_r 2, k 0.5, 1000 cells).
-- **tuned**: measured in this project on the open arena with ``hippo_env.protocol.run_dmtp``
+- **tuned**: measured in this project on the open arena with ``hippo_env.dmtp.run_dmtp``
   (20 trials x 4 runs per seed, a fresh agent per trial), settings compared on the same seeds.
   Medians quoted are of indirectness for runs 2 / 3 / 4 (or run 2 alone). Every comparison except
   ``trace_rate``'s own was made at the earlier default ``trace_rate = 0.2``.

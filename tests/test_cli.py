@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from hippo_agent.cli import main
+from hippomaze.cli import main
 
 
 class ForwardAgent:
@@ -105,9 +105,9 @@ class InterruptingAgent(ForwardAgent):
 def test_out_naming_a_file_fails_before_any_work(tmp_path, capsys, monkeypatch):
     target = tmp_path / "results.txt"
     target.write_text("mine")
-    import hippo_env.protocol
+    import hippo_env.dmtp
 
-    monkeypatch.setattr(hippo_env.protocol, "run_dmtp", lambda *a, **k: pytest.fail("the experiment ran"))
+    monkeypatch.setattr(hippo_env.dmtp, "run_dmtp", lambda *a, **k: pytest.fail("the experiment ran"))
     assert main([*QUICK, "--out", str(target)]) == 2
     assert "is a file; give a folder" in capsys.readouterr().err
     assert target.read_text() == "mine"
@@ -160,7 +160,7 @@ def test_complete_runs_are_marked_complete(tmp_path):
 def test_dmtp_json_is_written_atomically(tmp_path, monkeypatch):
     """A crash while writing leaves the earlier dmtp.json whole (a temporary file, then rename)."""
     import hippo_env.files
-    from hippo_env.protocol import DMTPResult
+    from hippo_env.dmtp import DMTPResult
 
     result = DMTPResult(maze="open", agent="x", seed=0, trials=1, runs=1)
     result.save(tmp_path)

@@ -77,10 +77,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
     """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures."""
-    from baselines.registry import agent_factory
-    from hippo_agent.report import format_table, write_dmtp_figures
+    from hippomaze.registry import agent_factory
+    from hippomaze.report import format_table, write_dmtp_figures
     from hippo_env.maze import MazeSpec
-    from hippo_env.protocol import DMTPInterrupted, run_dmtp
+    from hippo_env.dmtp import DMTPInterrupted, run_dmtp
 
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
@@ -244,12 +244,10 @@ def _seed(text: str) -> int:
 
 
 def run_paper_command(args: argparse.Namespace) -> int:
-    """Reproduce the paper's experiments (see benchmarks/paper.py): the model's figures and tables, written
+    """Reproduce the paper's experiments (hippomaze.paper): the model's figures and tables, written
     with REPORT.md and paper.json into --out. --quick runs every experiment briefly (about a minute)."""
-    try:
-        from benchmarks.paper import PaperArgs, run_paper
-    except ImportError as err:
-        raise ValueError(f"the paper benchmark is not available in this installation ({err}); run from a checkout with `pip install -e .`") from err
+    from hippomaze.paper import PaperArgs, run_paper
+
     run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers, model=args.model))
     return 0
 
