@@ -5,8 +5,8 @@ exists and every later step exploits with 8-way preplay), then is timed alone on
 random walk of real observations: once exploiting, once exploring. One replay is timed too, and
 the memory of the place->place tensor is read off the agent.
 
-    python benchmarks/agent_throughput.py            # writes benchmarks/results/agent_throughput.json
-    python benchmarks/agent_throughput.py --cells 250 --steps 500 --out /tmp/quick.json
+    python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
+    python -m benchmarks.agent_throughput --cells 250 --steps 500 --out /tmp/quick.json
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ import numpy as np
 import hippo_env
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_env.dmtp import rollout
 
 
 @dataclass
@@ -78,12 +79,7 @@ def main(argv: list[str] | None = None) -> None:
         agent.start_trial(0)
         observation, info = env.reset(options={"goal": [0.0, 0.0]})
         agent.reset(observation, info)
-        done = False
-        while not done:  # run 1: explore until the goal, which triggers the replay
-            action = agent.act(observation)
-            observation, reward, terminated, truncated, info = env.step(action)
-            agent.observe(action, observation, reward, terminated, truncated, info)
-            done = terminated or truncated
+        rollout(env, agent, observation)  # run 1: explore until the goal, which triggers the replay
         began = time.perf_counter()
         agent.learn_reward()
         replay_ms = 1e3 * (time.perf_counter() - began)

@@ -5,8 +5,8 @@ One process, through ``gym.make`` (all the registered wrappers), for every built
 Episode resets are inside the timed loop, as in training. Each figure is the median of
 ``--repeats`` timed runs of ``--steps`` steps after a warm-up.
 
-    python benchmarks/env_throughput.py                      # writes benchmarks/results/env_throughput.json
-    python benchmarks/env_throughput.py --steps 2000 --repeats 1 --out /tmp/quick.json
+    python -m benchmarks.env_throughput                      # writes benchmarks/results/env_throughput.json
+    python -m benchmarks.env_throughput --steps 2000 --repeats 1 --out /tmp/quick.json
 """
 
 from __future__ import annotations

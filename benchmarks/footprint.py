@@ -100,6 +100,7 @@ def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
 
     import hippo_env  # noqa: F401
     from hippo_agent import HippocampalAgent
+    from hippo_env.dmtp import rollout
 
     env = gym.make("HippoMaze-v0", maze=maze, odometry=True).unwrapped  # no time limit
     agent = HippocampalAgent(env.observation_space, env.action_space, seed=seed)
@@ -107,15 +108,14 @@ def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
     agent.reset(obs, info)
     samples = [{"step": 0, "resident_mb": resident_megabytes()}]
     began = time.perf_counter()
-    for step in range(1, steps + 1):
-        action = agent.act(obs)
-        obs, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, obs, reward, terminated, truncated, info)
-        if terminated or truncated:
+    step = 0
+    while step < steps:
+        end = rollout(env, agent, obs, max_steps=min(every, steps - step))
+        obs, step = end.observation, step + end.steps
+        if end.terminated or end.truncated:
             raise RuntimeError(f"the goal-free run ended at step {step}; it should not end")
-        if step % every == 0 or step == steps:
-            samples.append({"step": step, "resident_mb": resident_megabytes(), "seconds": time.perf_counter() - began})
-            print(f"  step {step:>9,}: {samples[-1]['resident_mb']:.0f} MB resident", flush=True)
+        samples.append({"step": step, "resident_mb": resident_megabytes(), "seconds": time.perf_counter() - began})
+        print(f"  step {step:>9,}: {samples[-1]['resident_mb']:.0f} MB resident", flush=True)
     return {"maze": maze, "steps": steps, "samples": samples, "peak_mb": _peak_megabytes(),
             "path_rows_kept": len(env.unwrapped.path), "steps_per_second": steps / (time.perf_counter() - began)}
 

@@ -1,7 +1,7 @@
 """Every built-in maze side by side, for the README: ``docs/mazes.png``.
 
-python benchmarks/maze_pictures.py
-python benchmarks/maze_pictures.py --mazes open maze1 --out /tmp/mazes.png
+python -m benchmarks.maze_pictures
+python -m benchmarks.maze_pictures --mazes open maze1 --out /tmp/mazes.png
 """
 
 from __future__ import annotations
