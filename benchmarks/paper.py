@@ -1,7 +1,7 @@
 """Reproduce every experiment of the paper's "Experimental Results" section (``hippomaze.paper``).
 
-    python -m benchmarks.paper --out benchmarks/results/paper     # the committed run (2 workers)
-    python -m benchmarks.paper --out /tmp/paper --quick           # every experiment, tiny (CI)
+python -m benchmarks.paper --out benchmarks/results/paper     # the committed run (2 workers)
+python -m benchmarks.paper --out /tmp/paper --quick           # every experiment, tiny (CI)
 """
 
 from __future__ import annotations

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
+from pathlib import Path
 
 import matplotlib.image as mpimg
 import numpy as np
@@ -58,7 +61,9 @@ def test_quick_run_puts_every_claim_beside_a_measurement(quick_run):
 
 
 def test_parse_args_maps_flags_to_the_dataclass():
-    args = parse_args(["--out", "x", "--quick", "--seed", "3", "--workers", "1", "--trials", "5", "--no-progress", "--dry-run-steps", "100"])
+    args = parse_args(
+        ["--out", "x", "--quick", "--seed", "3", "--workers", "1", "--trials", "5", "--no-progress", "--dry-run-steps", "100"]
+    )
     assert args == PaperArgs(out="x", quick=True, seed=3, workers=1, trials=5, progress=False, dry_run_steps=100)
     assert parse_args([]) == PaperArgs()
     assert "--quick" in args.command() and "--trials 5" in args.command()
@@ -81,6 +86,16 @@ def test_cli_paper_subcommand_calls_run_paper(monkeypatch, tmp_path):
         monkeypatch.setattr(module, "run_paper", lambda args: seen.append(args) or {})
     assert cli.main(["paper", "--out", str(tmp_path), "--quick", "--seed", "2", "--workers", "1"]) == 0
     assert seen == [PaperArgs(out=str(tmp_path), quick=True, seed=2, workers=1)]
+
+
+def test_the_app_imports_no_benchmark_and_importing_runs_nothing():
+    # hippomaze.paper ships in the wheel, benchmarks/ does not; importing the wrapper script must not start a run
+    code = "import sys, hippomaze.paper.run; print(sorted(m for m in sys.modules if m.startswith('benchmarks')))"
+    root = Path(__file__).resolve().parent.parent
+    app = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root)
+    assert app.stdout.strip() == "[]"
+    script = subprocess.run([sys.executable, "-c", "import benchmarks.paper"], capture_output=True, text=True, check=True, cwd=root)
+    assert script.stdout == "" and script.stderr == ""
 
 
 def test_trial_seeds_match_the_dmtp_command():

@@ -143,18 +143,20 @@ def analyse_fields(grid: Grid, rates: np.ndarray) -> list[FieldCell]:
         halves = {int(c[0] > 0) for _, _, c in substantial}
         folded = _compartment_coords(np.array([c for _, _, c in substantial]))
         spread = float(max(np.linalg.norm(a - b) for a in folded for b in folded)) if len(folded) > 1 else 0.0
-        out.append(FieldCell(
-            cell=int(cell),
-            peak=float(peaks[cell]),
-            area=float(len(members) * cell_area),
-            pieces=len(substantial),
-            solidity=float(len(main) * cell_area / hull) if hull > 0 else 1.0,
-            centre=[float(v) for v in info[0][2]],
-            quadrants=len(quadrants),
-            halves=len(halves),
-            folded_spread=spread,
-            min_piece_mass=float(min(t[0] for t in substantial)),
-        ))
+        out.append(
+            FieldCell(
+                cell=int(cell),
+                peak=float(peaks[cell]),
+                area=float(len(members) * cell_area),
+                pieces=len(substantial),
+                solidity=float(len(main) * cell_area / hull) if hull > 0 else 1.0,
+                centre=[float(v) for v in info[0][2]],
+                quadrants=len(quadrants),
+                halves=len(halves),
+                folded_spread=spread,
+                min_piece_mass=float(min(t[0] for t in substantial)),
+            )
+        )
     return out
 
 
@@ -177,7 +179,9 @@ def summarise_fields(cells: list[FieldCell], n_cells: int, arena_area: float) ->
         multi_quadrant_similar_place=float(np.mean([c.quadrants >= 2 and c.folded_spread <= SIMILAR_PLACE for c in cells])),
         multi_half=float(np.mean([c.halves == 2 for c in cells])),
         multi_half_similar_place=float(np.mean([c.halves == 2 and c.folded_spread <= SIMILAR_PLACE for c in cells])),
-        median_folded_spread_multi_quadrant=float(np.median([c.folded_spread for c in cells if c.quadrants >= 2])) if multi_q.any() else None,
+        median_folded_spread_multi_quadrant=float(np.median([c.folded_spread for c in cells if c.quadrants >= 2]))
+        if multi_q.any()
+        else None,
     )
 
 
@@ -190,7 +194,10 @@ def random_examples(cells: list[FieldCell], count: int, rng: np.random.Generator
 def aliasing_examples(cells: list[FieldCell], count: int) -> list[int]:
     """The clearest aliased cells (pieces at similar places, the smallest piece as large as
     possible), taking cells with 3, 4 and 2 quadrants in turn so that every kind is shown."""
-    ranked = {k: sorted((c for c in cells if c.quadrants == k), key=lambda c: (c.folded_spread > SIMILAR_PLACE, -c.min_piece_mass)) for k in (2, 3, 4)}
+    ranked = {
+        k: sorted((c for c in cells if c.quadrants == k), key=lambda c: (c.folded_spread > SIMILAR_PLACE, -c.min_piece_mass))
+        for k in (2, 3, 4)
+    }
     out: list[int] = []
     while len(out) < count and any(ranked.values()):
         for k in (3, 4, 2):

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 from hippo_agent import AgentConfig
 
-DESCRIPTION = "Reproduce every experiment of the paper's \"Experimental Results\" section on ``HippoMaze-v0``."
+DESCRIPTION = 'Reproduce every experiment of the paper\'s "Experimental Results" section on ``HippoMaze-v0``.'
 
 
 @dataclass
@@ -20,7 +20,7 @@ class PaperArgs:
     """Output folder for REPORT.md, paper.json and the figures."""
     quick: bool = False
     """A smoke run of every experiment (3 trials of 2 runs, short dry run and runs, coarse maps; it overrides
-    the sizes below): about a minute."""
+    the sizes below)."""
     seed: int = 0
     """Base seed; every task's seed derives from it (see the package docstring)."""
     workers: int = 2
@@ -58,8 +58,18 @@ class PaperArgs:
         if not self.quick:
             return self
         return dataclasses.replace(
-            self, trials=3, runs=2, same_start_trials=1, maze_trials=1, roam_steps=300, grid_spacing=0.5,
-            explore_steps=300, nav_runs=1, nav_max_steps=200, dry_run_steps=300, max_episode_steps=400,
+            self,
+            trials=3,
+            runs=2,
+            same_start_trials=1,
+            maze_trials=1,
+            roam_steps=300,
+            grid_spacing=0.5,
+            explore_steps=300,
+            nav_runs=1,
+            nav_max_steps=200,
+            dry_run_steps=300,
+            max_episode_steps=400,
         )
 
     def agent_config(self) -> AgentConfig:

@@ -35,12 +35,21 @@ def place_fields_claim(data: PaperData) -> Claim:
     measured = "; ".join(
         f"{m}: {fields[m].with_field} of {fields[m].cells} cells have a field, {fmt(fields[m].single_piece, pct=True)} in one piece, "
         f"median {fields[m].median_area_m2:.2f} m^2, solidity {fields[m].median_solidity_main_piece:.2f}"
-        for m in MAZES if m in fields and fields[m].with_field)
+        for m in MAZES
+        if m in fields and fields[m].with_field
+    )
     return Claim(
-        "P1", "1 place fields", "Place fields are localised and convex (Fig. 2), in the open arena and the mazes.", measured,
-        verdict(bool(single) and min(single) >= 0.8 and min(solid) >= 0.8 and max(share) <= 0.05, bool(single) and min(single) >= 0.5),
-        "reproduced if in open, maze1 and maze2 >= 80 % of fields are one piece, median solidity >= 0.8 and median area <= 5 % of the arena; partly if >= 50 % are one piece",
-        "fig1_place_fields.png")
+        id="P1",
+        experiment="1 place fields",
+        paper="Place fields are localised and convex (Fig. 2), in the open arena and the mazes.",
+        measured=measured,
+        verdict=verdict(
+            bool(single) and min(single) >= 0.8 and min(solid) >= 0.8 and max(share) <= 0.05, bool(single) and min(single) >= 0.5
+        ),
+        criterion="reproduced if in open, maze1 and maze2 >= 80 % of fields are one piece, median solidity >= 0.8 and median area <= 5 % "
+        "of the arena; partly if >= 50 % are one piece",
+        figure="fig1_place_fields.png",
+    )
 
 
 # ------------------------------------------------------------------------------- 2. reward maps after run 1
@@ -51,9 +60,14 @@ def reward_map_graded_claim(data: PaperData) -> Claim:
     fair = [r is not None and r <= -0.3 for r in rhos]
     measured = "Spearman(value, geodesic distance to goal): " + ", ".join(f"{k} {fmt(v.stats.spearman)}" for k, v in maps.items())
     return Claim(
-        "R1", "2 reward maps", "The reward map after run 1 is graded toward the goal (Figs. 3, 8).", measured,
-        verdict(bool(good) and np.mean(good) >= 0.8, bool(fair) and np.mean(fair) >= 0.5),
-        "reproduced if rho <= -0.5 in >= 80 % of the maps whose run 1 found the goal; partly if rho <= -0.3 in half", FIG_REWARD_MAPS)
+        id="R1",
+        experiment="2 reward maps",
+        paper="The reward map after run 1 is graded toward the goal (Figs. 3, 8).",
+        measured=measured,
+        verdict=verdict(bool(good) and np.mean(good) >= 0.8, bool(fair) and np.mean(fair) >= 0.5),
+        criterion="reproduced if rho <= -0.5 in >= 80 % of the maps whose run 1 found the goal; partly if rho <= -0.3 in half",
+        figure=FIG_REWARD_MAPS,
+    )
 
 
 def reward_map_spread_claim(data: PaperData) -> Claim:
@@ -62,11 +76,18 @@ def reward_map_spread_claim(data: PaperData) -> Claim:
     far = median_or_none(v.stats.far for v in found)
     cover = median_or_none(v.stats.coverage for v in found)
     return Claim(
-        "R2", "2 reward maps", "The map spreads over the regions run 1 explored and depends on how extensive that run was (Figs. 3, 8).",
-        f"median share of sampled places with value > xi: within {NEAR_PATH} m of run 1's path {fmt(near, pct=True)}, >= {FAR_PATH} m from it {fmt(far, pct=True)}, "
+        id="R2",
+        experiment="2 reward maps",
+        paper="The map spreads over the regions run 1 explored and depends on how extensive that run was (Figs. 3, 8).",
+        measured=f"median share of sampled places with value > xi: within {NEAR_PATH} m of run 1's path {fmt(near, pct=True)}, >= "
+        f"{FAR_PATH} m from it {fmt(far, pct=True)}, "
         f"whole arena {fmt(cover, pct=True)}",
-        verdict(near is not None and far is not None and near >= 0.5 and far <= 0.5 * near, near is not None and far is not None and near > far),
-        "reproduced if the median coverage near the path is >= 50 % and far from it at most half that; partly if near > far", FIG_REWARD_MAPS)
+        verdict=verdict(
+            near is not None and far is not None and near >= 0.5 and far <= 0.5 * near, near is not None and far is not None and near > far
+        ),
+        criterion="reproduced if the median coverage near the path is >= 50 % and far from it at most half that; partly if near > far",
+        figure=FIG_REWARD_MAPS,
+    )
 
 
 # ------------------------------------------------------------------------------- 3. same start
@@ -76,10 +97,15 @@ def same_start_claim(data: PaperData) -> Claim:
     direct = [(median_or_none(t.indirectness[1:]) or math.inf) <= 1.0 for t in open_trials]
     measured = "; ".join(f"trial {k + 1}: " + " / ".join(fmt(x) for x in t.indirectness) for k, t in enumerate(open_trials))
     return Claim(
-        "S1", "3 same start", "Open arena, same start: random search on run 1, then progressively more direct paths (Fig. 4).", "indirectness by run, " + measured,
-        verdict(bool(better) and all(better) and all(direct), bool(better) and np.mean(better) >= 0.5),
-        "reproduced if in every trial each later run beats run 1 and the later runs' median is <= 1; partly if later runs beat run 1 in half the trials",
-        "fig3a_same_start_open.png")
+        id="S1",
+        experiment="3 same start",
+        paper="Open arena, same start: random search on run 1, then progressively more direct paths (Fig. 4).",
+        measured="indirectness by run, " + measured,
+        verdict=verdict(bool(better) and all(better) and all(direct), bool(better) and np.mean(better) >= 0.5),
+        criterion="reproduced if in every trial each later run beats run 1 and the later runs' median is <= 1; partly if later runs beat "
+        "run 1 in half the trials",
+        figure="fig3a_same_start_open.png",
+    )
 
 
 # ------------------------------------------------------------------------------- 4-5. open arena DMTP
@@ -90,19 +116,31 @@ def indirectness_falls_claim(args: PaperArgs, data: PaperData) -> Claim:
     later_ok = r1 is not None and all(m is not None and m <= r1 / 3 for m in med[1:])
     later_lower = r1 is not None and all(m is not None and m < r1 for m in med[1:])
     return Claim(
-        "D1", "4 indirectness", "Indirectness falls sharply after one rewarded run: runs 2-4 much lower than run 1 (Fig. 5).",
-        f"{args.trials} trials, median by run " + " / ".join(fmt(m) for m in med) + f"; runs 2-{args.runs} reached the goal {d.later_runs_reached}/{d.later_runs_total}",
-        verdict(later_ok, later_lower), "reproduced if every later run's median is <= a third of run 1's; partly if lower", "fig4_indirectness.png")
+        id="D1",
+        experiment="4 indirectness",
+        paper="Indirectness falls sharply after one rewarded run: runs 2-4 much lower than run 1 (Fig. 5).",
+        measured=f"{args.trials} trials, median by run "
+        + " / ".join(fmt(m) for m in med)
+        + f"; runs 2-{args.runs} reached the goal {d.later_runs_reached}/{d.later_runs_total}",
+        verdict=verdict(later_ok, later_lower),
+        criterion="reproduced if every later run's median is <= a third of run 1's; partly if lower",
+        figure="fig4_indirectness.png",
+    )
 
 
 def correlation_claim(data: PaperData) -> Claim:
     p = data.open_dmtp.summary.pearson or {}
     r, ci = p.get("r"), p.get("ci95")
     return Claim(
-        "D2", "5 correlation", "Pearson r = -0.53 between run 1's path length and run 2's indirectness (Fig. 6).",
-        f"r = {fmt(r)} (95 % bootstrap CI {fmt(ci[0]) if ci else 'n/a'} to {fmt(ci[1]) if ci else 'n/a'}), Spearman {fmt(p.get('spearman'))}, n = {p.get('n')}",
-        verdict(r is not None and r <= -0.3 and ci is not None and ci[1] < 0, r is not None and r < 0),
-        "reproduced if r <= -0.3 and the interval excludes 0; partly if r < 0", "fig5_length_vs_indirectness.png")
+        id="D2",
+        experiment="5 correlation",
+        paper="Pearson r = -0.53 between run 1's path length and run 2's indirectness (Fig. 6).",
+        measured=f"r = {fmt(r)} (95 % bootstrap CI {fmt(ci[0]) if ci else 'n/a'} to {fmt(ci[1]) if ci else 'n/a'}), Spearman "
+        f"{fmt(p.get('spearman'))}, n = {p.get('n')}",
+        verdict=verdict(r is not None and r <= -0.3 and ci is not None and ci[1] < 0, r is not None and r < 0),
+        criterion="reproduced if r <= -0.3 and the interval excludes 0; partly if r < 0",
+        figure="fig5_length_vs_indirectness.png",
+    )
 
 
 def project_target_claims(args: PaperArgs, data: PaperData) -> list[Claim]:
@@ -114,15 +152,29 @@ def project_target_claims(args: PaperArgs, data: PaperData) -> list[Claim]:
         ("T1", "run-2 median indirectness <= 1.0", med[1] if len(med) > 1 else None, lambda v: v <= 1.0),
         ("T2", "run-4 median indirectness <= 0.5", med[3] if len(med) > 3 else None, lambda v: v <= 0.5),
         ("T3", ">= 95 % of runs 2-4 reach the goal", d.later_runs_success_rate, lambda v: v >= 0.95),
-        ("T4", "run-1 median >= 3x run-4 median", (r1 / med[3]) if len(med) > 3 and r1 is not None and med[3] else None, lambda v: v >= 3.0),
+        (
+            "T4",
+            "run-1 median >= 3x run-4 median",
+            (r1 / med[3]) if len(med) > 3 and r1 is not None and med[3] else None,
+            lambda v: v >= 3.0,
+        ),
     ]
     official = args.trials == 20 and args.runs == 4 and args.seed == 0
     rows = []
     for rid, text, value, test in targets:
         shown = fmt(value, pct=True) if rid == "T3" else (f"{fmt(value)}x" if rid == "T4" else fmt(value))
         met = value is not None and test(value)
-        rows.append(Claim(rid, "project target", f"(project issue, open arena, 20 trials, 4 runs, seed 0) {text}", shown + ("" if official else " (not the official setting)"),
-                          "met" if met else "not met", text, "fig4_indirectness.png"))
+        rows.append(
+            Claim(
+                id=rid,
+                experiment="project target",
+                paper=f"(project issue, open arena, 20 trials, 4 runs, seed 0) {text}",
+                measured=shown + ("" if official else " (not the official setting)"),
+                verdict="met" if met else "not met",
+                criterion=text,
+                figure="fig4_indirectness.png",
+            )
+        )
     return rows
 
 
@@ -152,17 +204,25 @@ class MazeOutcomes:
         text = "same start: " + " / ".join(fmt(x) for x in same.indirectness) if same else ""
         if m in self.random_starts:
             outcome = self.random_starts[m]
-            text += (f"; {outcome.result.trials} trials with random starts: median by run " + " / ".join(fmt(x) for x in outcome.summary.median_indirectness)
-                     + f", runs 2-{self.runs} median {fmt(self.later(m))}, {fmt(self.rate(m), pct=True)} reached the goal")
+            text += (
+                f"; {outcome.result.trials} trials with random starts: median by run "
+                + " / ".join(fmt(x) for x in outcome.summary.median_indirectness)
+                + f", runs 2-{self.runs} median {fmt(self.later(m))}, {fmt(self.rate(m), pct=True)} reached the goal"
+            )
         return text
 
 
 def maze_claim(mazes: MazeOutcomes, rid: str, maze: str, name: str) -> Claim:
     v = mazes.later(maze)
     return Claim(
-        rid, "3/4 mazes", f"{name} ({maze}): a useful value map after one run; efficient, generalised paths on runs 2-4 (Fig. 7).", mazes.measured(maze),
-        verdict(v is not None and v <= 1.0, v is not None and v <= 3.0),
-        f"over {mazes.source}: reproduced if the median indirectness of runs 2-{mazes.runs} is <= 1; partly if <= 3", FIG_MAZES)
+        id=rid,
+        experiment="3/4 mazes",
+        paper=f"{name} ({maze}): a useful value map after one run; efficient, generalised paths on runs 2-4 (Fig. 7).",
+        measured=mazes.measured(maze),
+        verdict=verdict(v is not None and v <= 1.0, v is not None and v <= 3.0),
+        criterion=f"over {mazes.source}: reproduced if the median indirectness of runs 2-{mazes.runs} is <= 1; partly if <= 3",
+        figure=FIG_MAZES,
+    )
 
 
 def alike_compartments_claim(mazes: MazeOutcomes) -> Claim:
@@ -172,18 +232,25 @@ def alike_compartments_claim(mazes: MazeOutcomes) -> Claim:
     rates = [mazes.rate(m) for m in ("maze1", "maze2")]
     fails = mazes.rate("maze4") is not None and all(r_ is not None for r_ in rates) and mazes.rate("maze4") < min(rates)
     return Claim(
-        "M3", "3/4 mazes", "The four alike compartments (the paper's Maze 3; our maze4) defeat it: the robot meanders, mistakes one compartment for another (Fig. 7).",
-        mazes.measured("maze4") + f"; worst of maze1/maze2: runs 2-{mazes.runs} median {fmt(easy_max)}",
-        verdict(worse and fails, worse or fails),
-        f"over {mazes.source}: reproduced if maze4's later-run median is above maze1's and maze2's and fewer of its later runs reach the goal; partly if one holds",
-        FIG_MAZES)
+        id="M3",
+        experiment="3/4 mazes",
+        paper="The four alike compartments (the paper's Maze 3; our maze4) defeat it: the robot meanders, mistakes one compartment "
+        "for another (Fig. 7).",
+        measured=mazes.measured("maze4") + f"; worst of maze1/maze2: runs 2-{mazes.runs} median {fmt(easy_max)}",
+        verdict=verdict(worse and fails, worse or fails),
+        criterion=f"over {mazes.source}: reproduced if maze4's later-run median is above maze1's and maze2's and fewer of its later runs "
+        "reach the goal; partly if one holds",
+        figure=FIG_MAZES,
+    )
 
 
 # ------------------------------------------------------------------------------- 6. generalisation
 def _goal_text(g: GoalResult) -> str:
-    return (f"goal {tuple(g.goal)}: covers {fmt(g.stats.near, pct=True)} of the explored area, rho {fmt(g.stats.spearman)}, "
-            f"value >= 3 m from the goal up to {fmt(g.stats.second_peak, pct=True)} of the peak, "
-            f"{sum(n.success for n in g.nav)}/{len(g.nav)} runs reached it (median ind. {fmt(median_or_none(n.indirectness for n in g.nav))})")
+    return (
+        f"goal {tuple(g.goal)}: covers {fmt(g.stats.near, pct=True)} of the explored area, rho {fmt(g.stats.spearman)}, "
+        f"value >= 3 m from the goal up to {fmt(g.stats.second_peak, pct=True)} of the peak, "
+        f"{sum(n.success for n in g.nav)}/{len(g.nav)} runs reached it (median ind. {fmt(median_or_none(n.indirectness for n in g.nav))})"
+    )
 
 
 def extensive_exploration_claim(data: PaperData, rid: str, name: str, fig: str) -> Claim:
@@ -191,10 +258,16 @@ def extensive_exploration_claim(data: PaperData, rid: str, name: str, fig: str) 
     visited = [g for g in gen.goals if g.visited]
     ok = [g.stats.near is not None and g.stats.near >= 0.5 and g.stats.spearman is not None and g.stats.spearman <= -0.5 for g in visited]
     return Claim(
-        rid, "6 generalisation", f"After extensive goal-free exploration ({gen.maze}), replay alone at a new reward place gives a map over the known environment (Fig. {fig}).",
-        "; ".join(_goal_text(g) for g in gen.goals),
-        verdict(bool(ok) and all(ok), bool(ok) and float(np.mean(ok)) >= 0.5),
-        "reproduced if for every visited goal the map covers >= 50 % of the explored area and is graded (rho <= -0.5); partly for half of them", "fig6_generalisation.png")
+        id=rid,
+        experiment="6 generalisation",
+        paper=f"After extensive goal-free exploration ({gen.maze}), replay alone at a new reward place gives a map over the known "
+        f"environment (Fig. {fig}).",
+        measured="; ".join(_goal_text(g) for g in gen.goals),
+        verdict=verdict(bool(ok) and all(ok), bool(ok) and float(np.mean(ok)) >= 0.5),
+        criterion="reproduced if for every visited goal the map covers >= 50 % of the explored area and is graded (rho <= -0.5); partly "
+        "for half of them",
+        figure="fig6_generalisation.png",
+    )
 
 
 def unexplored_goal_claim(data: PaperData) -> Claim:
@@ -206,21 +279,33 @@ def unexplored_goal_claim(data: PaperData) -> Claim:
     on_nav = median_or_none(n.indirectness for g in on_path for n in g.nav)
     un_nav = median_or_none(n.indirectness for g in unvisited for n in g.nav)
     return Claim(
-        "G3", "6 generalisation", "After exploring along one path, a reward placed where nothing was explored gives no useful map (Fig. 10b, last map).",
-        f"share of the arena covered: goals on the path {fmt(on_cov, pct=True)}, never-visited goal {fmt(un_cov, pct=True)}; "
+        id="G3",
+        experiment="6 generalisation",
+        paper="After exploring along one path, a reward placed where nothing was explored gives no useful map (Fig. 10b, last map).",
+        measured=f"share of the arena covered: goals on the path {fmt(on_cov, pct=True)}, never-visited goal {fmt(un_cov, pct=True)}; "
         f"median indirectness from random starts {fmt(on_nav)} vs {fmt(un_nav)}",
-        verdict(on_cov is not None and un_cov is not None and un_cov <= 0.25 * on_cov and (un_nav or 0) > (on_nav or 0), on_cov is not None and un_cov is not None and un_cov < on_cov),
-        "reproduced if the unvisited goal's map covers at most a quarter of what the on-path goals' maps cover and navigation to it is worse; partly if it covers less",
-        "fig6_generalisation.png")
+        verdict=verdict(
+            on_cov is not None and un_cov is not None and un_cov <= 0.25 * on_cov and (un_nav or 0) > (on_nav or 0),
+            on_cov is not None and un_cov is not None and un_cov < on_cov,
+        ),
+        criterion="reproduced if the unvisited goal's map covers at most a quarter of what the on-path goals' maps cover and navigation "
+        "to it is worse; partly if it covers less",
+        figure="fig6_generalisation.png",
+    )
 
 
 def field_effect_claim(data: PaperData) -> Claim:
     on_path = [g for g in data.generalisation["open_limited"].goals if g.visited]
     band = median_or_none(g.stats.band for g in on_path)
     return Claim(
-        "G4", "6 generalisation", "The inferred map is not confined to the exploratory path: place fields have width (the 'field effect', Fig. 10b).",
-        f"goals on the path: share of places 0.5-1.5 m from the path with value > xi {fmt(band, pct=True)}",
-        verdict(band is not None and band >= 0.5, band is not None and band >= 0.2), "reproduced if >= 50 %; partly if >= 20 %", "fig6_generalisation.png")
+        id="G4",
+        experiment="6 generalisation",
+        paper="The inferred map is not confined to the exploratory path: place fields have width (the 'field effect', Fig. 10b).",
+        measured=f"goals on the path: share of places 0.5-1.5 m from the path with value > xi {fmt(band, pct=True)}",
+        verdict=verdict(band is not None and band >= 0.5, band is not None and band >= 0.2),
+        criterion="reproduced if >= 50 %; partly if >= 20 %",
+        figure="fig6_generalisation.png",
+    )
 
 
 # ------------------------------------------------------------------------------- 7. aliasing
@@ -231,12 +316,19 @@ def aliasing_claim(data: PaperData) -> Claim | None:
     hist = a4.quadrants_hist
     frac, control, similar = a4.multi_quadrant, a0.multi_quadrant, a4.multi_quadrant_similar_place
     return Claim(
-        "A1", "7 aliasing", "In the four-compartment maze place cells fire at perceptually similar places of several compartments (Fig. 9: three of four).",
-        f"maze4: of {a4.with_field} cells with a field, {hist[1]} have separate pieces in 2 quadrants, {hist[2]} in 3, {hist[3]} in 4 ({fmt(frac, pct=True)}; "
-        f"{fmt(similar, pct=True)} at places within {SIMILAR_PLACE} m of each other once folded into one compartment); open-arena control {fmt(control, pct=True)}",
-        verdict(frac >= 0.05 and frac >= 3 * control and similar >= 0.5 * frac and hist[2] + hist[3] > 0, frac > control),
-        "reproduced if >= 5 % of maze4's fields span >= 2 quadrants, >= 3x the open arena, mostly at similar places, and some span 3-4; partly if more than the control",
-        "fig7_aliasing_maze4.png")
+        id="A1",
+        experiment="7 aliasing",
+        paper="In the four-compartment maze place cells fire at perceptually similar places of several compartments "
+        "(Fig. 9: three of four).",
+        measured=f"maze4: of {a4.with_field} cells with a field, {hist[1]} have separate pieces in 2 quadrants, {hist[2]} in 3, {hist[3]} "
+        f"in 4 ({fmt(frac, pct=True)}; "
+        f"{fmt(similar, pct=True)} at places within {SIMILAR_PLACE} m of each other once folded into one compartment); "
+        f"open-arena control {fmt(control, pct=True)}",
+        verdict=verdict(frac >= 0.05 and frac >= 3 * control and similar >= 0.5 * frac and hist[2] + hist[3] > 0, frac > control),
+        criterion="reproduced if >= 5 % of maze4's fields span >= 2 quadrants, >= 3x the open arena, mostly at similar places, and some "
+        "span 3-4; partly if more than the control",
+        figure="fig7_aliasing_maze4.png",
+    )
 
 
 def alike_cups_claim(data: PaperData) -> Claim | None:
@@ -244,11 +336,16 @@ def alike_cups_claim(data: PaperData) -> Claim | None:
     if not (a3.with_field and a0.with_field):
         return None
     return Claim(
-        "A2", "7 aliasing", "(beyond the paper) maze3's two alike cups: cells with fields in both halves.",
-        f"maze3 {fmt(a3.multi_half, pct=True)} of fields in both halves ({fmt(a3.multi_half_similar_place, pct=True)} at similar places); "
+        id="A2",
+        experiment="7 aliasing",
+        paper="(beyond the paper) maze3's two alike cups: cells with fields in both halves.",
+        measured=f"maze3 {fmt(a3.multi_half, pct=True)} of fields in both halves "
+        f"({fmt(a3.multi_half_similar_place, pct=True)} at similar places); "
         f"open-arena control {fmt(a0.multi_half, pct=True)}",
-        verdict(a3.multi_half >= 0.05 and a3.multi_half >= 3 * a0.multi_half, a3.multi_half > a0.multi_half),
-        "reproduced if >= 5 % and >= 3x the open arena; partly if more than the control", "fig1_place_fields.png")
+        verdict=verdict(a3.multi_half >= 0.05 and a3.multi_half >= 3 * a0.multi_half, a3.multi_half > a0.multi_half),
+        criterion="reproduced if >= 5 % and >= 3x the open arena; partly if more than the control",
+        figure="fig1_place_fields.png",
+    )
 
 
 def assess(args: PaperArgs, data: PaperData) -> list[Claim]:

@@ -56,7 +56,9 @@ def task_fields(maze: str, seed: int, config: AgentConfig, roam_steps: int, spac
     )
 
 
-def task_dmtp_trial(maze: str, seed: int, runs: int, same_start: bool, config: AgentConfig, max_episode_steps: int | None, map_roam_steps: int) -> TrialResult:
+def task_dmtp_trial(
+    maze: str, seed: int, runs: int, same_start: bool, config: AgentConfig, max_episode_steps: int | None, map_roam_steps: int
+) -> TrialResult:
     """Experiments 2-5: one DMTP trial through the protocol runner; optionally the reward map after run 1."""
     captured: list[RewardMap] = []
 
@@ -69,23 +71,35 @@ def task_dmtp_trial(maze: str, seed: int, runs: int, same_start: bool, config: A
         values = agent.reward_map(env, positions)
         goal = env.unwrapped.goal
         path = env.unwrapped.path.copy()
-        captured.append(RewardMap(
-            positions=positions.astype(np.float32),
-            values=values.astype(np.float32),
-            run1_path=path.astype(np.float32),
-            goal=[float(goal[0]), float(goal[1])],
-            stats=map_stats(maze, positions, values, goal, path, agent.config.xi),
-        ))
+        captured.append(
+            RewardMap(
+                positions=positions.astype(np.float32),
+                values=values.astype(np.float32),
+                run1_path=path.astype(np.float32),
+                goal=[float(goal[0]), float(goal[1])],
+                stats=map_stats(maze, positions, values, goal, path, agent.config.xi),
+            )
+        )
 
     result = run_dmtp(
-        functools.partial(make_agent, config=config), maze, trials=1, runs=runs, seed=seed, agent_name="hippo",
-        same_start=same_start, max_episode_steps=max_episode_steps, progress=False, on_run_end=on_run_end,
+        functools.partial(make_agent, config=config),
+        maze,
+        trials=1,
+        runs=runs,
+        seed=seed,
+        agent_name="hippo",
+        same_start=same_start,
+        max_episode_steps=max_episode_steps,
+        progress=False,
+        on_run_end=on_run_end,
         env_kwargs={"odometry": True},
     )
     return TrialResult(maze=maze, seed=seed, same_start=same_start, result=result, map=captured[-1] if captured else None)
 
 
-def task_generalisation(name: str, seed: int, config: AgentConfig, explore_steps: int, roam_steps: int, nav_runs: int, nav_max_steps: int) -> GeneralisationResult:
+def task_generalisation(
+    name: str, seed: int, config: AgentConfig, explore_steps: int, roam_steps: int, nav_runs: int, nav_max_steps: int
+) -> GeneralisationResult:
     """Experiment 6: explore with no goal, then for each goal replay only and sample the map."""
     scenario = SCENARIOS[name]
     maze = scenario.maze
@@ -107,18 +121,22 @@ def task_generalisation(name: str, seed: int, config: AgentConfig, explore_steps
         values = np.asarray(replayed.reward.value(rates, replayed.reward.W_rp[-1]), float)  # eq. 9, undepressed
         nav = navigate(replayed, nav_env, goal, nav_runs, seed + 10 + k)
         to_path = float(distance_to_path(np.asarray([goal], float), path)[0])
-        goals.append(GoalResult(
-            goal=[float(goal[0]), float(goal[1])],
-            distance_to_explored=to_path,
-            visited=to_path <= VISITED,
-            replay_learnt=bool(learnt),
-            values=values.astype(np.float32),
-            stats=map_stats(maze, positions, values, goal, path, config.xi),
-            nav=nav,
-        ))
+        goals.append(
+            GoalResult(
+                goal=[float(goal[0]), float(goal[1])],
+                distance_to_explored=to_path,
+                visited=to_path <= VISITED,
+                replay_learnt=bool(learnt),
+                values=values.astype(np.float32),
+                stats=map_stats(maze, positions, values, goal, path, config.xi),
+                nav=nav,
+            )
+        )
     env.close()
     nav_env.close()
-    return GeneralisationResult(name=name, maze=maze, seed=seed, path=path.astype(np.float32), positions=positions.astype(np.float32), goals=goals)
+    return GeneralisationResult(
+        name=name, maze=maze, seed=seed, path=path.astype(np.float32), positions=positions.astype(np.float32), goals=goals
+    )
 
 
 def build_tasks(args: PaperArgs) -> list[Task]:
@@ -127,11 +145,25 @@ def build_tasks(args: PaperArgs) -> list[Task]:
     base = TRIAL_SEED_STRIDE * args.seed
 
     def trial(maze: str, seed: int, same_start: bool, map_roam_steps: int) -> dict[str, Any]:
-        return {"maze": maze, "seed": seed, "runs": args.runs, "same_start": same_start, "config": cfg,
-                "max_episode_steps": args.max_episode_steps, "map_roam_steps": map_roam_steps}
+        return {
+            "maze": maze,
+            "seed": seed,
+            "runs": args.runs,
+            "same_start": same_start,
+            "config": cfg,
+            "max_episode_steps": args.max_episode_steps,
+            "map_roam_steps": map_roam_steps,
+        }
 
-    tasks = [Task(f"fields/{m}", task_fields, {"maze": m, "seed": base + 300 + i, "config": cfg, "roam_steps": args.roam_steps, "spacing": args.grid_spacing}, 20)
-             for i, m in enumerate(MAZES)]
+    tasks = [
+        Task(
+            f"fields/{m}",
+            task_fields,
+            {"maze": m, "seed": base + 300 + i, "config": cfg, "roam_steps": args.roam_steps, "spacing": args.grid_spacing},
+            20,
+        )
+        for i, m in enumerate(MAZES)
+    ]
     for t in range(args.same_start_trials):
         tasks.append(Task(f"same_start/open/{t}", task_dmtp_trial, trial("open", base + 100 + t, True, args.roam_steps), 12))
     for i, m in enumerate(OBSTACLE_MAZES):
@@ -142,8 +174,22 @@ def build_tasks(args: PaperArgs) -> list[Task]:
         for t in range(args.maze_trials):
             tasks.append(Task(f"dmtp/{m}/{t}", task_dmtp_trial, trial(m, trial_seed(args.seed, t), False, 0), 25 if m == "maze4" else 10))
     for i, name in enumerate(SCENARIOS):
-        tasks.append(Task(f"generalisation/{name}", task_generalisation, {"name": name, "seed": base + 400 + i, "config": cfg, "explore_steps": args.explore_steps,
-                                                                       "roam_steps": args.roam_steps, "nav_runs": args.nav_runs, "nav_max_steps": args.nav_max_steps}, 60))
+        tasks.append(
+            Task(
+                f"generalisation/{name}",
+                task_generalisation,
+                {
+                    "name": name,
+                    "seed": base + 400 + i,
+                    "config": cfg,
+                    "explore_steps": args.explore_steps,
+                    "roam_steps": args.roam_steps,
+                    "nav_runs": args.nav_runs,
+                    "nav_max_steps": args.nav_max_steps,
+                },
+                60,
+            )
+        )
     return tasks
 
 

@@ -18,16 +18,63 @@ from .results import FieldsResult, GeneralisationResult, TrialResult
 from .statistics import median_or_none
 
 FIGURES = [
-    ("fig1_place_fields.png", "1. Place fields", "Example place fields after the dry run in the open arena and every maze: each cell's rate over the positions of an aimless roam (learning off), hexagonal bins, unvisited bins empty (paper Fig. 2). Four cells drawn at random among those with a field."),
-    ("fig2a_reward_maps_open.png", "2. Reward maps after run 1 (open arena)", "Top: run 1 of each same-start trial; bottom: the reward cell's rate over an aimless roam after run 1, learning off (paper Fig. 3). Red: the goal."),
+    (
+        "fig1_place_fields.png",
+        "1. Place fields",
+        (
+            "Example place fields after the dry run in the open arena and every maze: each cell's rate over the positions of an "
+            "aimless roam (learning off), hexagonal bins, unvisited bins empty (paper Fig. 2). Four cells drawn at random among "
+            "those with a field."
+        ),
+    ),
+    (
+        "fig2a_reward_maps_open.png",
+        "2. Reward maps after run 1 (open arena)",
+        (
+            "Top: run 1 of each same-start trial; bottom: the reward cell's rate over an aimless roam after run 1, learning off "
+            "(paper Fig. 3). Red: the goal."
+        ),
+    ),
     ("fig2b_reward_maps_mazes.png", "2. Reward maps after run 1 (mazes)", "The same in maze1-maze4 (paper Fig. 8)."),
-    ("fig3a_same_start_open.png", "3. Same start, open arena", "Each column a trial, each row a run from the same start; titles give the indirectness (paper Fig. 4)."),
-    ("fig3b_same_start_mazes.png", "3. Same start, mazes", "One trial per maze, four runs from one start (paper Fig. 7; the paper's Maze 3 is our maze4)."),
-    ("fig4_indirectness.png", "4. Indirectness per run, open arena", "Random starts, every trial a dot; hollow red = goal not reached (paper Fig. 5)."),
+    (
+        "fig3a_same_start_open.png",
+        "3. Same start, open arena",
+        "Each column a trial, each row a run from the same start; titles give the indirectness (paper Fig. 4).",
+    ),
+    (
+        "fig3b_same_start_mazes.png",
+        "3. Same start, mazes",
+        "One trial per maze, four runs from one start (paper Fig. 7; the paper's Maze 3 is our maze4).",
+    ),
+    (
+        "fig4_indirectness.png",
+        "4. Indirectness per run, open arena",
+        "Random starts, every trial a dot; hollow red = goal not reached (paper Fig. 5).",
+    ),
     ("fig5_length_vs_indirectness.png", "5. Run 1 length vs run 2 indirectness", "With the Pearson r (paper Fig. 6: -0.53)."),
-    ("fig6_generalisation.png", "6. Generalisation", "Top: the goal-free exploration ((a) the agent's own, 5,000 steps by default; (b) one scripted pass along an L; (c) the agent's own in maze2). Below: the map inferred by replay alone at the green goal, sampled by roaming (paper Fig. 10). Titles: share of the roamed places where the value exceeds the exploit threshold; runs from random starts (up to the step limit) that reached the goal, and their median indirectness."),
-    ("fig7_aliasing_maze4.png", "7. Perceptual aliasing in maze4", "Cells whose fields have separate pieces in several quadrants (rates on a grid so every compartment is sampled), and the distribution over cells, maze4 against the open arena (paper Fig. 9)."),
-    ("fig8_mazes_indirectness.png", "Beyond the paper: indirectness per run in every maze", "Random starts, as figure 4 above but in each obstacle maze."),
+    (
+        "fig6_generalisation.png",
+        "6. Generalisation",
+        (
+            "Top: the goal-free exploration ((a) the agent's own, 5,000 steps by default; (b) one scripted pass along an L; (c) the "
+            "agent's own in maze2). Below: the map inferred by replay alone at the green goal, sampled by roaming (paper Fig. 10). "
+            "Titles: share of the roamed places where the value exceeds the exploit threshold; runs from random starts (up to the "
+            "step limit) that reached the goal, and their median indirectness."
+        ),
+    ),
+    (
+        "fig7_aliasing_maze4.png",
+        "7. Perceptual aliasing in maze4",
+        (
+            "Cells whose fields have separate pieces in several quadrants (rates on a grid so every compartment is sampled), and "
+            "the distribution over cells, maze4 against the open arena (paper Fig. 9)."
+        ),
+    ),
+    (
+        "fig8_mazes_indirectness.png",
+        "Beyond the paper: indirectness per run in every maze",
+        "Random starts, as figure 4 above but in each obstacle maze.",
+    ),
 ]
 
 
@@ -78,10 +125,24 @@ def fig_reward_maps(entries: list[tuple[str, TrialResult]], out: Path, name: str
     for col, (label, entry) in enumerate(entries):
         spec = MazeSpec.load(entry.maze)
         mp = entry.map
-        plot_trajectories([mp.run1_path], axes[0, col], maze=spec, goal=mp.goal, title=f"{label}: run 1", )
+        plot_trajectories(
+            [mp.run1_path],
+            axes[0, col],
+            maze=spec,
+            goal=mp.goal,
+            title=f"{label}: run 1",
+        )
         vmax = float(np.nanmax(mp.values)) if np.isfinite(mp.values).any() else 0.0
-        plot_reward_map(mp.positions, mp.values, axes[1, col], maze=spec, goal=mp.goal, colorbar=False, gridsize=30,
-                        title=f"value after run 1 (max {vmax:.2f})")
+        plot_reward_map(
+            mp.positions,
+            mp.values,
+            axes[1, col],
+            maze=spec,
+            goal=mp.goal,
+            colorbar=False,
+            gridsize=30,
+            title=f"value after run 1 (max {vmax:.2f})",
+        )
         for ax in axes[:, col]:
             _bare(ax)
             ax.title.set_fontsize("small")
@@ -102,7 +163,7 @@ def fig_same_start(results: list[tuple[str, DMTPResult, str]], out: Path, name: 
         for e in result.episodes:
             mark = "" if e.success else " (not reached)"
             axes[e.run, col].set_title(f"{label}, run {e.run + 1}: {e.indirectness:.2f}{mark}", fontsize="small")
-        for ax in axes[len(result.paths[0]):, col]:
+        for ax in axes[len(result.paths[0]) :, col]:
             ax.set_visible(False)
     fig.suptitle(title, fontsize="medium")
     fig.tight_layout()
@@ -169,8 +230,11 @@ def fig_generalisation(gen: dict[str, GeneralisationResult], out: Path) -> Path:
             where = "visited" if goal.visited else f"{goal.distance_to_explored:.1f} m from explored"
             ok = sum(n.success for n in goal.nav)
             ind = median_or_none(n.indirectness for n in goal.nav)
-            ax.set_title(f"goal {tuple(goal.goal)} ({where})\ncovers {fmt(goal.stats.coverage, pct=True)}; runs: {ok}/{len(goal.nav)} reached, median ind. {fmt(ind, 1)}",
-                         fontsize="small")
+            ax.set_title(
+                f"goal {tuple(goal.goal)} ({where})\ncovers {fmt(goal.stats.coverage, pct=True)}; runs: {ok}/{len(goal.nav)} "
+                f"reached, median ind. {fmt(ind, 1)}",
+                fontsize="small",
+            )
         for ax in axes[:, col]:
             _bare(ax)
             ax.title.set_fontsize("small")
@@ -194,7 +258,9 @@ def fig_aliasing(fields: dict[str, FieldsResult], out: Path) -> Path:
         ax = axes[0, k]
         if k < len(cells):
             c = cells[k]
-            plot_place_field(f4.grid_positions, f4.grid_rates[c], ax, maze=spec, colorbar=False, gridsize=max(10, round(10 / spacing * 0.7)))
+            plot_place_field(
+                f4.grid_positions, f4.grid_rates[c], ax, maze=spec, colorbar=False, gridsize=max(10, round(10 / spacing * 0.7))
+            )
             ax.set_title(f"cell {c}: {by_id[c].quadrants} quadrants", fontsize="small")
         else:
             ax.set_visible(False)
@@ -216,19 +282,49 @@ def fig_aliasing(fields: dict[str, FieldsResult], out: Path) -> Path:
     return _save(fig, out / "fig7_aliasing_maze4.png")
 
 
-def draw_figures(fields: dict[str, FieldsResult], same_open: list[TrialResult], same_mazes: dict[str, TrialResult], open_result: DMTPResult,
-                 gen: dict[str, GeneralisationResult], maze_results: dict[str, DMTPResult], out: Path) -> list[Path]:
+def draw_figures(
+    fields: dict[str, FieldsResult],
+    same_open: list[TrialResult],
+    same_mazes: dict[str, TrialResult],
+    open_result: DMTPResult,
+    gen: dict[str, GeneralisationResult],
+    maze_results: dict[str, DMTPResult],
+    out: Path,
+) -> list[Path]:
     """Every figure of the report, in ``out``; returns their paths."""
     import matplotlib
 
     matplotlib.use("Agg")
     figures = [fig_place_fields(fields, out)]
-    figures.append(fig_reward_maps([(f"open trial {t + 1}", x) for t, x in enumerate(same_open)], out, "fig2a_reward_maps_open.png",
-                                   "Open arena: reward maps after run 1, sampled by roaming with learning off"))
-    figures.append(fig_reward_maps(list(same_mazes.items()), out, "fig2b_reward_maps_mazes.png", "Mazes: reward maps after run 1, sampled by roaming with learning off"))
-    figures.append(fig_same_start([(f"open trial {t + 1}", x.result, "open") for t, x in enumerate(same_open)], out, "fig3a_same_start_open.png",
-                                  "Open arena: four runs from the same start"))
-    figures.append(fig_same_start([(m, x.result, m) for m, x in same_mazes.items()], out, "fig3b_same_start_mazes.png", "Mazes: four runs from the same start"))
+    figures.append(
+        fig_reward_maps(
+            [(f"open trial {t + 1}", x) for t, x in enumerate(same_open)],
+            out,
+            "fig2a_reward_maps_open.png",
+            "Open arena: reward maps after run 1, sampled by roaming with learning off",
+        )
+    )
+    figures.append(
+        fig_reward_maps(
+            list(same_mazes.items()),
+            out,
+            "fig2b_reward_maps_mazes.png",
+            "Mazes: reward maps after run 1, sampled by roaming with learning off",
+        )
+    )
+    figures.append(
+        fig_same_start(
+            [(f"open trial {t + 1}", x.result, "open") for t, x in enumerate(same_open)],
+            out,
+            "fig3a_same_start_open.png",
+            "Open arena: four runs from the same start",
+        )
+    )
+    figures.append(
+        fig_same_start(
+            [(m, x.result, m) for m, x in same_mazes.items()], out, "fig3b_same_start_mazes.png", "Mazes: four runs from the same start"
+        )
+    )
     figures += fig_dmtp(open_result, out)
     figures.append(fig_generalisation(gen, out))
     figures.append(fig_aliasing(fields, out))

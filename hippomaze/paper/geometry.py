@@ -108,6 +108,6 @@ def distance_to_path(positions: np.ndarray, path: np.ndarray, chunk: int = 512) 
         return np.full(len(positions), np.inf)
     out = np.empty(len(positions))
     for s in range(0, len(positions), chunk):
-        d = np.linalg.norm(positions[s:s + chunk, None, :] - path[None, :, :], axis=2)
-        out[s:s + chunk] = d.min(axis=1)
+        d = np.linalg.norm(positions[s : s + chunk, None, :] - path[None, :, :], axis=2)
+        out[s : s + chunk] = d.min(axis=1)
     return out

@@ -152,5 +152,9 @@ def navigate(agent: HippocampalAgent, env: gym.Env, goal: Any, runs: int, seed: 
             action = runner.act(obs)
             obs, reward, terminated, truncated, info = env.step(action)
             runner.observe(action, obs, reward, terminated, truncated, info)
-        out.append(NavRun(success=bool(info["is_success"]), indirectness=float(info.get("indirectness", math.nan)), steps=len(env.unwrapped.path) - 1))
+        out.append(
+            NavRun(
+                success=bool(info["is_success"]), indirectness=float(info.get("indirectness", math.nan)), steps=len(env.unwrapped.path) - 1
+            )
+        )
     return out

@@ -134,8 +134,14 @@ class GoalResult:
     nav: list[NavRun]
 
     def to_dict(self) -> dict[str, Any]:
-        return {"goal": self.goal, "distance_to_explored": self.distance_to_explored, "visited": self.visited,
-                "replay_learnt": self.replay_learnt, "stats": dataclasses.asdict(self.stats), "nav": [dataclasses.asdict(n) for n in self.nav]}
+        return {
+            "goal": self.goal,
+            "distance_to_explored": self.distance_to_explored,
+            "visited": self.visited,
+            "replay_learnt": self.replay_learnt,
+            "stats": dataclasses.asdict(self.stats),
+            "nav": [dataclasses.asdict(n) for n in self.nav],
+        }
 
 
 @dataclass
@@ -150,7 +156,12 @@ class GeneralisationResult:
     goals: list[GoalResult]
 
     def to_dict(self, explore: str) -> dict[str, Any]:
-        return {"maze": self.maze, "explore": explore, "exploration_steps": int(len(self.path) - 1), "goals": [g.to_dict() for g in self.goals]}
+        return {
+            "maze": self.maze,
+            "explore": explore,
+            "exploration_steps": int(len(self.path) - 1),
+            "goals": [g.to_dict() for g in self.goals],
+        }
 
 
 # ------------------------------------------------------------------------------- gathered
@@ -200,8 +211,12 @@ class DMTPSummary:
         return self.protocol.get("later_runs_success_rate")
 
     def to_dict(self) -> dict[str, Any]:
-        out = {**self.protocol, "median_runs_2_on": self.median_runs_2_on, "later_runs_reached": self.later_runs_reached,
-               "later_runs_total": self.later_runs_total}
+        out = {
+            **self.protocol,
+            "median_runs_2_on": self.median_runs_2_on,
+            "later_runs_reached": self.later_runs_reached,
+            "later_runs_total": self.later_runs_total,
+        }
         if self.pearson is not None:
             out["pearson"] = self.pearson
         return out

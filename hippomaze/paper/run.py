@@ -47,7 +47,9 @@ def _map_entry(task: TrialResult) -> MapEntry:
     return MapEntry(maze=task.maze, seed=task.seed, found_goal=bool(ep.success), run1_steps=ep.steps, stats=task.map.stats)
 
 
-def write_outputs(requested: PaperArgs, results: dict[str, Any], seconds: dict[str, float], began: float, sources: dict[str, str] | None = None) -> dict[str, Any]:
+def write_outputs(
+    requested: PaperArgs, results: dict[str, Any], seconds: dict[str, float], began: float, sources: dict[str, str] | None = None
+) -> dict[str, Any]:
     """Analyse the tasks' results (by task name, see ``experiments.build_tasks``); write the figures, REPORT.md and paper.json."""
     args = requested.resolved()
     out = Path(args.out)
@@ -57,13 +59,22 @@ def write_outputs(requested: PaperArgs, results: dict[str, Any], seconds: dict[s
     same_open: list[TrialResult] = [results[f"same_start/open/{t}"] for t in range(args.same_start_trials)]
     same_mazes: dict[str, TrialResult] = {m: results[f"same_start/{m}"] for m in OBSTACLE_MAZES}
     open_result = merge_trials([results[f"dmtp/open/{t}"].result for t in range(args.trials)], args.seed)
-    maze_results = {m: merge_trials([results[f"dmtp/{m}/{t}"].result for t in range(args.maze_trials)], args.seed) for m in OBSTACLE_MAZES} if args.maze_trials else {}
+    maze_results = (
+        {m: merge_trials([results[f"dmtp/{m}/{t}"].result for t in range(args.maze_trials)], args.seed) for m in OBSTACLE_MAZES}
+        if args.maze_trials
+        else {}
+    )
     gen: dict[str, GeneralisationResult] = {name: results[f"generalisation/{name}"] for name in SCENARIOS}
 
     data = PaperData(
         place_fields={m: f.summary for m, f in fields.items()},
-        reward_maps_after_run1={**{f"open trial {t + 1}": _map_entry(x) for t, x in enumerate(same_open)}, **{m: _map_entry(x) for m, x in same_mazes.items()}},
-        same_start=SameStart(open=[_same_start_trial(x) for x in same_open], mazes={m: _same_start_trial(x) for m, x in same_mazes.items()}),
+        reward_maps_after_run1={
+            **{f"open trial {t + 1}": _map_entry(x) for t, x in enumerate(same_open)},
+            **{m: _map_entry(x) for m, x in same_mazes.items()},
+        },
+        same_start=SameStart(
+            open=[_same_start_trial(x) for x in same_open], mazes={m: _same_start_trial(x) for m, x in same_mazes.items()}
+        ),
         open_dmtp=DMTPOutcome(open_result, dmtp_summary(open_result, args.seed)),
         maze_dmtp={m: DMTPOutcome(r, dmtp_summary(r, args.seed)) for m, r in maze_results.items()},
         generalisation=gen,
@@ -104,7 +115,11 @@ def experiments_record(args: PaperArgs, data: PaperData, fields: dict[str, Field
         "place_fields": {m: s.to_dict() for m, s in data.place_fields.items()},
         "reward_maps_after_run1": {k: dataclasses.asdict(v) for k, v in data.reward_maps_after_run1.items()},
         "same_start": dataclasses.asdict(data.same_start),
-        "open_dmtp": {**data.open_dmtp.result.to_dict(), "summary": data.open_dmtp.summary.to_dict(), "trial_seeds": [trial_seed(args.seed, t) for t in range(args.trials)]},
+        "open_dmtp": {
+            **data.open_dmtp.result.to_dict(),
+            "summary": data.open_dmtp.summary.to_dict(),
+            "trial_seeds": [trial_seed(args.seed, t) for t in range(args.trials)],
+        },
         "maze_dmtp": {m: {**v.result.to_dict(), "summary": v.summary.to_dict()} for m, v in data.maze_dmtp.items()},
         "generalisation": {n: g.to_dict(SCENARIOS[n].explore) for n, g in data.generalisation.items()},
         "aliasing_examples": {m: {"examples": f.examples, "alias_examples": f.alias_examples} for m, f in fields.items()},

@@ -43,5 +43,10 @@ def pearson_with_ci(x: np.ndarray, y: np.ndarray, seed: int, n_boot: int = 4000)
     ci = [float(np.quantile(boots, 0.025)), float(np.quantile(boots, 0.975))] if boots else None
     loo = [np.corrcoef(np.delete(x, k), np.delete(y, k))[0, 1] for k in range(len(x)) if len(x) > 3]
     loo = [v for v in loo if np.isfinite(v)]
-    return {"n": len(x), "r": float(np.corrcoef(x, y)[0, 1]), "ci95": ci, "spearman": spearman(x, y),
-            "leave_one_out": [float(min(loo)), float(max(loo))] if loo else None}
+    return {
+        "n": len(x),
+        "r": float(np.corrcoef(x, y)[0, 1]),
+        "ci95": ci,
+        "spearman": spearman(x, y),
+        "leave_one_out": [float(min(loo)), float(max(loo))] if loo else None,
+    }
