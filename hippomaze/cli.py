@@ -77,10 +77,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
     """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures."""
+    from hippo_env.dmtp import DMTPInterrupted, run_dmtp
+    from hippo_env.maze import MazeSpec
     from hippomaze.registry import agent_factory
     from hippomaze.report import format_table, write_dmtp_figures
-    from hippo_env.maze import MazeSpec
-    from hippo_env.dmtp import DMTPInterrupted, run_dmtp
 
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would

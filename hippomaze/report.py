@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 
 from hippo_agent.plots import plot_trajectories
-from hippo_env.maze import MazeSpec
 from hippo_env.dmtp import DMTPResult
+from hippo_env.maze import MazeSpec
 
 
 def plot_indirectness(result: DMTPResult, ax: Any = None, title: str | None = None) -> tuple[Any, Any]:

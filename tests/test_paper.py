@@ -78,7 +78,7 @@ def test_quick_shrinks_everything():
 
 def test_cli_paper_subcommand_calls_run_paper(monkeypatch, tmp_path):
     import benchmarks.paper
-    from hippo_agent import cli
+    from hippomaze import cli
 
     seen = []
     # the console script imports run_paper from hippomaze.paper (benchmarks.paper re-exports it for the older import)

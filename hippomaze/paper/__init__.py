@@ -19,7 +19,7 @@ beside our measurement with a plain verdict) and ``paper.json`` (every number) i
 
 Every trial or experiment is one task with its own seed, run in a ``ProcessPoolExecutor``;
 results are gathered by task name, so nothing depends on ``--workers``. DMTP trials go through
-``hippo_env.protocol.run_dmtp``, one call per trial: trial ``t`` (from 0) in maze ``M`` is exactly
+``hippo_env.dmtp.run_dmtp``, one call per trial: trial ``t`` (from 0) in maze ``M`` is exactly
 ``hippomaze dmtp --maze M --trials 1 --runs 4 --seed <1000 * seed + t>``.
 
 Maps are sampled the paper's way: the robot roams aimlessly (a separate environment; no agent is

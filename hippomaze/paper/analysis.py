@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from hippo_env.protocol import DMTPResult
+from hippo_env.dmtp import DMTPResult
 
 from .geometry import Grid, distance_to_path, geodesic_to
 from .results import DMTPSummary, FieldCell, FieldSummary, MapStats

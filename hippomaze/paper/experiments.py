@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 
 from hippo_agent import AgentConfig
+from hippo_env.dmtp import DMTPResult, run_dmtp
 from hippo_env.maze import MazeSpec
-from hippo_env.protocol import DMTPResult, run_dmtp
 
 from .analysis import aliasing_examples, analyse_fields, map_stats, random_examples, summarise_fields
 from .args import PaperArgs

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from hippo_env.dmtp import DMTPResult
 from hippo_env.maze import MazeSpec
-from hippo_env.protocol import DMTPResult
 
 from .design import EXAMPLE_CELLS, MAZES, SCENARIOS
 from .formatting import fmt
@@ -154,7 +154,7 @@ def fig_reward_maps(entries: list[tuple[str, TrialResult]], out: Path, name: str
 def fig_same_start(results: list[tuple[str, DMTPResult, str]], out: Path, name: str, title: str) -> Path:
     import matplotlib.pyplot as plt
 
-    from hippo_agent.report import plot_trial_paths
+    from hippomaze.report import plot_trial_paths
 
     runs = max(r.runs for _, r, _ in results)
     fig, axes = plt.subplots(runs, len(results), figsize=(2.9 * len(results), 2.9 * runs), squeeze=False)
@@ -173,7 +173,7 @@ def fig_same_start(results: list[tuple[str, DMTPResult, str]], out: Path, name: 
 def fig_dmtp(result: DMTPResult, out: Path) -> list[Path]:
     import matplotlib.pyplot as plt
 
-    from hippo_agent.report import plot_indirectness, plot_length_vs_indirectness
+    from hippomaze.report import plot_indirectness, plot_length_vs_indirectness
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
@@ -193,7 +193,7 @@ def fig_dmtp(result: DMTPResult, out: Path) -> list[Path]:
 def fig_mazes_dmtp(results: dict[str, DMTPResult], out: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    from hippo_agent.report import plot_indirectness
+    from hippomaze.report import plot_indirectness
 
     fig, axes = plt.subplots(1, len(results), figsize=(4.2 * len(results), 3.8), squeeze=False)
     for ax, (m, result) in zip(axes[0], results.items()):

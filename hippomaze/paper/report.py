@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hippo_env.protocol import DMTPResult
+from hippo_env.dmtp import DMTPResult
 
 from .analysis import COMPONENT_MIN_MASS, FAR_PATH, FIELD_LEVEL, FIELD_MIN_PEAK, SIMILAR_PLACE
 from .args import PaperArgs
@@ -199,7 +199,7 @@ def _differences(args: PaperArgs) -> list[str]:
 
 
 def write_report(args: PaperArgs, data: PaperData, rows: list[Claim], figures: list[Path], out: Path, wall: float, command: str) -> Path:
-    from hippo_agent.report import format_table
+    from hippomaze.report import format_table
 
     present = {p.name for p in figures}
     lines = [

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from hippo_env.protocol import DMTPResult
+from hippo_env.dmtp import DMTPResult
 
 
 # ------------------------------------------------------------------------------- place fields
