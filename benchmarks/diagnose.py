@@ -41,11 +41,11 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
-from benchmarks.paper import spearman
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
-from hippo_env.maze import MazeSpec
 from hippo_env.dmtp import run_dmtp
+from hippo_env.maze import MazeSpec
+from hippomaze.paper.statistics import spearman
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5

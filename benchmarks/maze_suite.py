@@ -93,7 +93,7 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
 def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Per maze, every seed's days together: the run-1 length vs run-2 indirectness correlation
     (Pearson r with a 95 % bootstrap interval over days; the paper's Fig. 6 gives r = -0.53)."""
-    from benchmarks.paper import pearson_with_ci
+    from hippomaze.paper.statistics import pearson_with_ci
 
     out: dict[str, dict[str, Any]] = {}
     for maze in dict.fromkeys(r["maze"] for r in rows):

@@ -9,12 +9,12 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
-
-import hippo_env  # noqa: F401
 from hippomaze.baselines import RandomAgent
 from hippomaze.baselines.hyperparams import SWEEP, DQNParams, PPOParams, make_params
-from hippomaze.registry import AGENT_NAMES, PRIVILEGED, agent_factory
+
+import hippo_env  # noqa: F401
 from hippo_env.dmtp import run_dmtp
+from hippomaze.registry import AGENT_NAMES, PRIVILEGED, agent_factory
 
 pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
 

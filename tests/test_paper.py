@@ -77,13 +77,10 @@ def test_quick_shrinks_everything():
 
 
 def test_cli_paper_subcommand_calls_run_paper(monkeypatch, tmp_path):
-    import benchmarks.paper
     from hippomaze import cli
 
     seen = []
-    # the console script imports run_paper from hippomaze.paper (benchmarks.paper re-exports it for the older import)
-    for module in (hippomaze.paper, benchmarks.paper):
-        monkeypatch.setattr(module, "run_paper", lambda args: seen.append(args) or {})
+    monkeypatch.setattr(hippomaze.paper, "run_paper", lambda args: seen.append(args) or {})
     assert cli.main(["paper", "--out", str(tmp_path), "--quick", "--seed", "2", "--workers", "1"]) == 0
     assert seen == [PaperArgs(out=str(tmp_path), quick=True, seed=2, workers=1)]
 

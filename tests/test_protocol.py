@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 import pytest
-
 from hippomaze.baselines import RandomAgent
+
 from hippo_env.dmtp import DMTPResult, run_dmtp
 from hippomaze.registry import load_agent_class
 
@@ -178,7 +178,7 @@ def test_agent_base_gives_the_optional_hooks():
 def test_agents_registered_by_entry_point(monkeypatch):
     from importlib.metadata import EntryPoint
 
-    import hippomaze.registry as registry
+    from hippomaze import registry
 
     points = [
         EntryPoint(name="mine", value="hippomaze.baselines.random_agent:RandomAgent", group=registry.ENTRY_POINT_GROUP),
