@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 import numpy as np
@@ -14,6 +14,9 @@ from hippo_env import physics
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
+
+if TYPE_CHECKING:
+    from hippo_env.render import Frame
 
 ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
@@ -267,7 +270,7 @@ class HippoMazeEnv(gym.Env):
             from hippo_env.render import Renderer
 
             self._renderer = Renderer(self.maze, human=self.render_mode == "human")
-        return self._renderer.draw(self)
+        return self._renderer.draw(self._frame())
 
     def close(self) -> None:
         if self._renderer is not None:
@@ -289,6 +292,20 @@ class HippoMazeEnv(gym.Env):
         return self._path.array()
 
     # ------------------------------------------------------------------ internals
+    def _frame(self) -> Frame:
+        """The snapshot the renderer draws."""
+        from hippo_env.render import Frame
+
+        return Frame(
+            position=self.world.position,
+            heading=self.world.heading,
+            path=self.path,
+            goal=None if self.goal is None else self.goal.copy(),
+            goal_radius=self.goal_radius,
+            ranges=self._ranges.copy() if self.render_rays else None,
+            fps=self.metadata["render_fps"],
+        )
+
     def _observe(self, moved: tuple[float, float]) -> dict[str, np.ndarray]:
         """The observation at the robot's pose; ``moved`` is its allocentric displacement this step."""
         heading = self.world.heading
