@@ -162,12 +162,17 @@ class MazeSpec:
 
     def clearance(self, point: tuple[float, float] | np.ndarray) -> float:
         """Distance from a point to the nearest wall; negative inside an obstacle or outside the arena."""
-        x, y = float(point[0]), float(point[1])
-        distance = float(segments_clearance(x, y, self._segments))
+        return float(self.clearances([point])[0])
+
+    def clearances(self, points: Any) -> np.ndarray:
+        """:meth:`clearance` of each of ``points`` (``(k, 2)``), the inside tests vectorised over the points."""
+        xy = np.asarray(points, float).reshape(-1, 2)
+        distance = np.array([segments_clearance(float(x), float(y), self._segments) for x, y in xy], dtype=np.float64)
         hw, hh = self.half_extent
-        if abs(x) > hw or abs(y) > hh or self.inside_obstacle((x, y)):
-            return -distance
-        return distance
+        outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
+        for poly in self.obstacles:
+            outside |= _points_in_polygon(xy, poly)
+        return np.where(outside, -distance, distance)
 
     def is_free(self, point: tuple[float, float] | np.ndarray, radius: float) -> bool:
         """Whether a disc of ``radius`` centred at ``point`` fits without touching any wall."""
@@ -175,7 +180,7 @@ class MazeSpec:
 
     def free_mask(self, points: np.ndarray, radius: float) -> np.ndarray:
         """Whether a disc of ``radius`` fits at each of ``points`` (``(k, 2)``): :meth:`is_free` point by point."""
-        return np.array([self.clearance(p) >= radius for p in points], dtype=bool)
+        return self.clearances(points) >= radius
 
     def sample_free(self, rng: np.random.Generator, clearance: float, away_from: tuple[float, float] | None = None, min_distance: float = 0.0, tries: int = 10_000) -> np.ndarray:
         """A uniform random point at least ``clearance`` from every wall (and ``min_distance`` from ``away_from``)."""
@@ -337,19 +342,7 @@ class MazeSpec:
                 for s in range(steps + 1):
                     angle = a0 + sweep * s / steps
                     candidates.append(corner + margin * np.array([math.cos(angle), math.sin(angle)]))
-        return [p for p, c in zip(candidates, self._clearances(candidates)) if c >= radius - _GRAZE]
-
-    def _clearances(self, points: list[np.ndarray]) -> np.ndarray:
-        """:meth:`clearance` of many points (the inside tests vectorised over the points)."""
-        if not points:
-            return np.zeros(0)
-        xy = np.asarray(points, float).reshape(-1, 2)
-        distance = np.array([segments_clearance(float(x), float(y), self._segments) for x, y in xy])
-        hw, hh = self.half_extent
-        outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
-        for poly in self.obstacles:
-            outside |= _points_in_polygon(xy, poly)
-        return np.where(outside, -distance, distance)
+        return [p for p, c in zip(candidates, self.clearances(candidates)) if c >= radius - _GRAZE]
 
 
 # ---------------------------------------------------------------------- helpers
