@@ -44,6 +44,7 @@ import json
 import math
 import os
 import zipfile
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -51,6 +52,7 @@ import numpy as np
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
 from hippo_agent.config import AgentConfig
 from hippo_env.dmtp import rollout
+from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
 
@@ -59,11 +61,6 @@ PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate o
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
 FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
-
-
-def _wrap(angle: float) -> float:
-    """Wrap an angle to [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def _describe_space(space: Any) -> str:
@@ -117,50 +114,11 @@ class HippocampalAgent:
 
         self.rng = np.random.default_rng(seed)
         c = config
-        self.hd = HeadDirectionCells(c.n_hd)
-        self.bvc = BoundaryVectorCells(
-            n_rays=self.n_rays,
-            max_range=self.max_range,
-            n_directions=c.n_bvc_directions,
-            n_distances=c.n_bvc_distances,
-            max_distance=c.bvc_max_distance,
-            sigma_r=c.bvc_sigma_r,
-            distance_scaled=c.bvc_distance_scaled,
-            beta=c.bvc_beta,
-            sigma_theta=math.radians(c.bvc_sigma_theta_deg),
-            angular_cutoff=c.bvc_angular_cutoff,
-            peak_rate=c.bvc_peak_rate,
-            ignore_max_range=c.bvc_ignore_max_range,
-        )
-        self.place = PlaceCells(
-            c.n_place,
-            self.bvc.n,
-            c.n_hd,
-            self.rng,
-            k=c.k,
-            Gamma_pb=c.Gamma_pb,
-            Gamma_pp=c.Gamma_pp,
-            psi=c.psi,
-            p_pb=c.p_pb,
-            eta_pb=c.eta_pb,
-            alpha_pb=c.alpha_pb,
-            trace_rate=c.trace_rate,
-            hd_trace_rate=c.hd_trace_rate,
-            trace_floor=c.trace_floor,
-            eta_pp=c.eta_pp,
-        )
+        self.hd = HeadDirectionCells(n=c.n_hd)
+        self.bvc = BoundaryVectorCells(n_rays=self.n_rays, max_range=self.max_range, **c.bvc_kwargs())
+        self.place = PlaceCells(c.n_place, self.bvc.n, c.n_hd, self.rng, **c.place_kwargs())
         self.reward = RewardCells(c.n_place)
-        self.pi = PathIntegrator(
-            c.pi_particles,
-            self.rng,
-            motion_noise=c.pi_motion_noise,
-            min_motion_noise=c.pi_min_motion_noise,
-            vote_sigma=c.pi_vote_sigma,
-            anchor_radius=c.pi_anchor_radius,
-            anchor_weight=c.pi_anchor_weight,
-            redraw_fraction=c.pi_redraw_fraction,
-            lag=(1.0 - c.k) / c.k,
-        )
+        self.pi = PathIntegrator(c.pi_particles, self.rng, **c.path_integrator_kwargs())
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -415,7 +373,7 @@ class HippocampalAgent:
         c = self.config
         if self.segment_left <= 0:
             turn = self.rng.normal(0.0, math.radians(c.turn_sigma_deg))
-            self.intended_heading = _wrap(self.intended_heading + turn)
+            self.intended_heading = wrap_angle(self.intended_heading + turn)
             self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
         self.segment_left -= 1
         return self.intended_heading
@@ -423,7 +381,7 @@ class HippocampalAgent:
     def _to_action(self, heading: float) -> Any:
         """Turn an allocentric heading into an action of the action space."""
         if self.action_kind == "heading":
-            return np.array([_wrap(heading)], dtype=np.float32)
+            return np.array([wrap_angle(heading)], dtype=np.float32)
         x = (heading % (2.0 * math.pi)) / (2.0 * math.pi / self.n_actions)
         if self.config.discrete_rounding == "nearest":
             k = int(math.floor(x + 0.5))
@@ -523,6 +481,14 @@ class HippocampalAgent:
         "pi_estimate": ("pi", "estimate"), "pi_last_step": ("pi", "last_step"),
     }
     _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+    # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
+    _STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+        ("phase", str), ("trial", int), ("goal_rewarded", bool), ("started", bool), ("intended_heading", float),
+        ("segment_left", int), ("escape_left", int), ("heading", float), ("last_decision", str),
+        ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}), ("total_steps", int),
+    )
+    # The path integrator's, under "state" -> "pi".
+    _PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (("frame_started", bool), ("anchored", bool), ("fresh", bool), ("confidence", float))
 
     def _array_slots(self) -> list[tuple[str, Any, str]]:
         """(name in the file, object holding it, attribute) for every saved array."""
@@ -545,19 +511,8 @@ class HippocampalAgent:
             "rng_state": self.rng.bit_generator.state,
             "rng_kind": type(self.rng.bit_generator).__name__,
             "state": {
-                "phase": self.phase,
-                "trial": self.trial,
-                "goal_rewarded": self.goal_rewarded,
-                "started": self.started,
-                "intended_heading": self.intended_heading,
-                "segment_left": self.segment_left,
-                "escape_left": self.escape_left,
-                "heading": self.heading,
-                "last_decision": self.last_decision,
-                "episode_stats": self.episode_stats,
-                "total_steps": self.total_steps,
-                "pi": {"frame_started": self.pi.frame_started, "anchored": self.pi.anchored, "fresh": self.pi.fresh,
-                       "confidence": self.pi.confidence},
+                **{name: getattr(self, name) for name, _ in self._STATE},
+                "pi": {name: getattr(self.pi, name) for name, _ in self._PI_STATE},
             },
         }
         arrays = {name: getattr(target, attr) for name, target, attr in self._array_slots()}
@@ -624,20 +579,10 @@ class HippocampalAgent:
             st = meta["state"]
             if st["phase"] not in ("dry", "trial"):
                 raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
-            agent.phase = str(st["phase"])
-            agent.trial = int(st["trial"])
-            agent.goal_rewarded = bool(st["goal_rewarded"])
-            agent.started = bool(st["started"])
-            agent.intended_heading = float(st["intended_heading"])
-            agent.segment_left = int(st["segment_left"])
-            agent.escape_left = int(st["escape_left"])
-            agent.heading = float(st["heading"])
-            agent.last_decision = str(st["last_decision"])
-            agent.episode_stats = {str(k): int(v) for k, v in st["episode_stats"].items()}
-            agent.total_steps = int(st["total_steps"])
-            pi = st["pi"]
-            agent.pi.frame_started, agent.pi.anchored = bool(pi["frame_started"]), bool(pi["anchored"])
-            agent.pi.fresh, agent.pi.confidence = bool(pi["fresh"]), float(pi["confidence"])
+            for name, read in cls._STATE:
+                setattr(agent, name, read(st[name]))
+            for name, read in cls._PI_STATE:
+                setattr(agent.pi, name, read(st["pi"][name]))
         except ValueError as exc:
             raise ValueError(f"{what}: {exc}") from exc
         except (KeyError, TypeError, AttributeError) as exc:

@@ -24,6 +24,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Literal
 
+from hippo_env.files import unknown_fields
+
 __all__ = ["AgentConfig"]
 
 
@@ -328,13 +330,46 @@ class AgentConfig:
         """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
         if not isinstance(data, dict):
             raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
-        known = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - known)
+        unknown = unknown_fields(cls, data)
         if unknown:
             raise ValueError(
-                f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(known)}"
+                f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}"
             )
         return cls(**data)
+
+    # ------------------------------------------------------------------ the cells' parameters
+    # The cell classes take every parameter as a required keyword: their values live here only.
+    def bvc_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.BoundaryVectorCells` (besides the sensor's)."""
+        return {
+            "n_directions": self.n_bvc_directions,
+            "n_distances": self.n_bvc_distances,
+            "max_distance": self.bvc_max_distance,
+            "sigma_r": self.bvc_sigma_r,
+            "distance_scaled": self.bvc_distance_scaled,
+            "beta": self.bvc_beta,
+            "sigma_theta": math.radians(self.bvc_sigma_theta_deg),
+            "angular_cutoff": self.bvc_angular_cutoff,
+            "peak_rate": self.bvc_peak_rate,
+            "ignore_max_range": self.bvc_ignore_max_range,
+        }
+
+    def place_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.PlaceCells` (besides the sizes and the generator)."""
+        names = ("k", "Gamma_pb", "Gamma_pp", "psi", "p_pb", "eta_pb", "alpha_pb", "trace_rate", "hd_trace_rate", "trace_floor", "eta_pp")
+        return {name: getattr(self, name) for name in names}
+
+    def path_integrator_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.PathIntegrator` (besides the particle count and the generator)."""
+        return {
+            "motion_noise": self.pi_motion_noise,
+            "min_motion_noise": self.pi_min_motion_noise,
+            "vote_sigma": self.pi_vote_sigma,
+            "anchor_radius": self.pi_anchor_radius,
+            "anchor_weight": self.pi_anchor_weight,
+            "redraw_fraction": self.pi_redraw_fraction,
+            "lag": (1.0 - self.k) / self.k,  # eq. 3's Euler update lags the input by this many steps
+        }
 
     def replace(self, **changes: Any) -> AgentConfig:
         """A copy with some fields changed (validated like the original)."""

@@ -31,7 +31,7 @@ class BoundaryVectorCells:
     by shifting ray indices by the heading, rounded to the nearest ray (at most half a ray,
     0.25 deg at 720 rays).
 
-    Args:
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.bvc_kwargs`):
         n_rays: rays per scan.
         max_range: the rangefinder's maximum range (m).
         n_directions: preferred directions.
@@ -50,16 +50,17 @@ class BoundaryVectorCells:
         self,
         n_rays: int,
         max_range: float,
-        n_directions: int = 8,
-        n_distances: int = 50,
-        max_distance: float | None = None,
-        sigma_r: float = 0.5,
-        distance_scaled: bool = False,
-        beta: float = 1.83,
-        sigma_theta: float = math.radians(1.0),
-        angular_cutoff: float = 3.0,
-        peak_rate: float = 0.5,
-        ignore_max_range: bool = True,
+        *,
+        n_directions: int,
+        n_distances: int,
+        max_distance: float | None,
+        sigma_r: float,
+        distance_scaled: bool,
+        beta: float,
+        sigma_theta: float,
+        angular_cutoff: float,
+        peak_rate: float,
+        ignore_max_range: bool,
     ) -> None:
         if n_rays < 1:
             raise ValueError(f"n_rays={n_rays} is invalid; allowed: an integer >= 1")

@@ -41,7 +41,7 @@ class PlaceCells:
     used by replay, ``max_k W^pp_{kij} = max_k |W^pp_{kij}|``, is therefore symmetric, and replay
     spreads both ways along a path. This is the paper's model as written; we keep it.
 
-    Args:
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.place_kwargs`):
         n: number of place cells.
         n_bvc: number of BVC inputs.
         n_hd: number of head-direction cells (``W_pp`` slices).
@@ -60,17 +60,17 @@ class PlaceCells:
         n_hd: int,
         rng: np.random.Generator,
         *,
-        k: float = 0.5,
-        Gamma_pb: float = 0.3,
-        Gamma_pp: float = 0.5,
-        psi: float = 1.0,
-        p_pb: float = 0.2,
-        eta_pb: float = 0.096,
-        alpha_pb: float = float(np.sqrt(0.5)),
-        trace_rate: float = 0.3,
-        hd_trace_rate: float = 1.0,
-        trace_floor: float = 1e-3,
-        eta_pp: float = 1.0,
+        k: float,
+        Gamma_pb: float,
+        Gamma_pp: float,
+        psi: float,
+        p_pb: float,
+        eta_pb: float,
+        alpha_pb: float,
+        trace_rate: float,
+        hd_trace_rate: float,
+        trace_floor: float,
+        eta_pp: float,
     ) -> None:
         self.n, self.n_bvc, self.n_hd = int(n), int(n_bvc), int(n_hd)
         self.k, self.Gamma_pb, self.Gamma_pp, self.psi = k, Gamma_pb, Gamma_pp, psi
