@@ -56,6 +56,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
+from hippo_env.files import unknown_fields
+
 
 @dataclass(frozen=True)
 class _OnlineParams:
@@ -198,10 +200,10 @@ def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQPa
     if agent not in PARAMS:
         raise ValueError(f"no hyperparameters for agent {agent!r}; known: {', '.join(PARAMS)}")
     cls = PARAMS[agent]
-    allowed = {f.name for f in fields(cls)}
-    unknown = sorted(set(overrides) - allowed)
+    unknown = unknown_fields(cls, overrides)
     if unknown:
-        raise ValueError(f"{cls.__name__} has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+        allowed = sorted(f.name for f in fields(cls))
+        raise ValueError(f"{cls.__name__} has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
     if "net_arch" in overrides:
         overrides["net_arch"] = tuple(int(v) for v in overrides["net_arch"])
     return replace(cls(), **overrides)

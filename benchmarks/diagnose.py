@@ -90,7 +90,7 @@ class FreeGraph:
         self.spacing, self.origin, self.shape = spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs))
         gx, gy = np.meshgrid(xs, ys)
         points = np.column_stack([gx.ravel(), gy.ravel()])
-        self.free = np.array([spec.clearance(p) >= ROBOT_RADIUS for p in points])
+        self.free = spec.free_mask(points, ROBOT_RADIUS)
         rows, cols = self.shape
         idx = np.arange(rows * cols).reshape(rows, cols)
         src, dst, w = [], [], []
@@ -127,7 +127,7 @@ def sample_places(spec: MazeSpec, spacing: float = SAMPLE_SPACING) -> np.ndarray
     xs = np.arange(-hw + spacing / 2, hw, spacing)
     ys = np.arange(-hh + spacing / 2, hh, spacing)
     points = np.array([(x, y) for y in ys for x in xs])
-    return points[[spec.clearance(p) >= 0.3 for p in points]]
+    return points[spec.free_mask(points, 0.3)]
 
 
 def across_walls(rates: np.ndarray, places: np.ndarray, path_distance: np.ndarray) -> float | None:

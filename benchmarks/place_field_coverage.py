@@ -21,6 +21,7 @@ import hippo_env  # registers HippoMaze-v0
 from benchmarks.common import REPO, command_line, machine_info, parse_dataclass_args
 from hippo_agent import HippocampalAgent
 from hippo_agent.plots import grid_positions
+from hippo_env.physics import ROBOT_RADIUS
 
 
 @dataclass
@@ -45,7 +46,7 @@ def main(argv: list[str] | None = None) -> None:
         agent.prepare(env)
         spec = env.unwrapped.maze
         grid = grid_positions(spec.size, spacing=args.spacing, margin=0.0)
-        grid = grid[[spec.clearance(p) >= 0.17 for p in grid]]
+        grid = grid[spec.free_mask(grid, ROBOT_RADIUS)]
         rates = agent.place_field_map(env, grid)
         active = rates > 0
         fired = active.any(axis=0)

@@ -22,8 +22,9 @@ import numpy as np
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
-from hippo_env.files import atomic_write, write_json
+from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
+
 
 @dataclass
 class Episode:
@@ -75,7 +76,7 @@ class DMTPResult:
         }
         if not self.complete:
             record["complete"] = False
-        record["episodes"] = [_json_safe(asdict(e)) for e in self.episodes]
+        record["episodes"] = [jsonable(asdict(e)) for e in self.episodes]
         return record
 
     def save(self, out_dir: str | Path) -> Path:
@@ -109,7 +110,7 @@ class DMTPResult:
             lengths[e.trial, e.run] = e.path_length
         later = ind[:, 1:]
         summary: dict[str, Any] = {
-            "median_indirectness": [_nan_to_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)],
+            "median_indirectness": [finite_or_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)],
             "success_rate": [float(ok[:, r].mean()) for r in range(self.runs)],
         }
         if self.runs > 1:
@@ -324,15 +325,6 @@ def _progress(total: int, description: str, enabled: bool):
     from tqdm.auto import tqdm
 
     return tqdm(total=total, desc=description, unit="run")
-
-
-def _nan_to_none(value: float) -> float | None:
-    return None if not math.isfinite(value) else value
-
-
-def _json_safe(record: dict[str, Any]) -> dict[str, Any]:
-    """NaN and infinity are not JSON: write them as null."""
-    return {k: (_nan_to_none(v) if isinstance(v, float) else v) for k, v in record.items()}
 
 
 __all__ = ["DMTPInterrupted", "DMTPResult", "Episode", "RolloutEnd", "rollout", "run_dmtp"]

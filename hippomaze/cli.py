@@ -17,6 +17,7 @@ import numpy as np
 
 from hippo_env.env import ACTION_TYPES
 from hippo_env.files import write_json
+from hippo_env.physics import ROBOT_RADIUS
 
 # What `hippomaze dmtp` writes into its --out folder (cleared by --overwrite, nothing else is).
 DMTP_OUTPUTS = (
@@ -226,7 +227,7 @@ def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
     from hippo_agent.plots import grid_positions
 
     grid = grid_positions(maze.size, spacing=spacing)
-    grid = grid[[maze.clearance(p) >= 0.17 for p in grid]]
+    grid = grid[maze.free_mask(grid, ROBOT_RADIUS)]
     if len(grid) > MAX_MAP_POSITIONS:
         grid = grid[np.linspace(0, len(grid) - 1, MAX_MAP_POSITIONS).astype(int)]
     return grid

@@ -33,6 +33,7 @@ from typing import Any
 import gymnasium as gym
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
+from hippo_env.files import unknown_fields
 
 #: The entry-point group third-party agents register under.
 ENTRY_POINT_GROUP = "hippomaze.agents"
@@ -51,10 +52,10 @@ def _hippo(paper: bool = False, **overrides: Any) -> AgentFactory:
         from hippo_agent import AgentConfig
     except ImportError as err:
         raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
-    allowed = {f.name for f in fields(AgentConfig)}
-    unknown = sorted(set(overrides) - allowed)
+    unknown = unknown_fields(AgentConfig, overrides)
     if unknown:
-        raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+        allowed = sorted(f.name for f in fields(AgentConfig))
+        raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
     config = replace(AgentConfig.paper() if paper else AgentConfig(), **overrides)
 
     def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:

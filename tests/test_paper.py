@@ -17,7 +17,7 @@ from hippomaze.paper import PaperArgs, parse_args, run_paper
 from hippomaze.paper.analysis import analyse_fields, components, hull_area
 from hippomaze.paper.design import MAZES, SCENARIOS, trial_seed
 from hippomaze.paper.figures import FIGURES
-from hippomaze.paper.geometry import free_mask, geodesic_to, grid_for
+from hippomaze.paper.geometry import geodesic_to, grid_for
 from hippomaze.paper.procedures import drive_scripted, make_env, replay_at
 from hippomaze.paper.statistics import spearman
 
@@ -100,15 +100,6 @@ def test_trial_seeds_match_the_dmtp_command():
 
 
 # ------------------------------------------------------------------------------- helpers
-def test_free_mask_agrees_with_clearance():
-    rng = np.random.default_rng(0)
-    for maze in MAZES:
-        spec = MazeSpec.load(maze)
-        points = rng.uniform(-5.2, 5.2, (400, 2))
-        expected = np.array([spec.clearance(p) >= 0.17 for p in points])
-        assert np.array_equal(free_mask(spec, points, 0.17), expected)
-
-
 def test_geodesic_goes_around_walls():
     # maze4: from the NE compartment's centre to the NW one's the robot must go around the wall's end.
     d = geodesic_to("maze4", (2.5, 2.5), np.array([[2.5, 2.0], [-2.5, 2.5]]))

@@ -1,5 +1,5 @@
 """Geometry of the paper's experiments: the free grid over a maze, geodesic distances on it, the
-distance to a path, and angle wrapping."""
+distance to a path (the free test and angle wrapping are hippo_env's)."""
 
 from __future__ import annotations
 
@@ -27,28 +27,6 @@ class Grid:
     positions: np.ndarray
 
 
-def wrap_angle(angle: float) -> float:
-    """``angle`` wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2 * math.pi) - math.pi
-
-
-def free_mask(spec: MazeSpec, points: np.ndarray, radius: float) -> np.ndarray:
-    """Which points a disc of ``radius`` fits at (vectorised ``spec.clearance(p) >= radius``)."""
-    from matplotlib.path import Path as PolygonPath
-
-    hw, hh = spec.half_extent
-    inside = (np.abs(points[:, 0]) < hw) & (np.abs(points[:, 1]) < hh)
-    for poly in spec.obstacles:
-        inside &= ~PolygonPath(np.asarray(poly)).contains_points(points)
-    seg = spec.segments
-    a, b = seg[None, :, :2], seg[None, :, 2:]
-    ab = b - a
-    t = np.clip(np.sum((points[:, None, :] - a) * ab, axis=2) / np.maximum(np.sum(ab * ab, axis=2), 1e-12), 0.0, 1.0)
-    nearest = a + t[:, :, None] * ab
-    distance = np.linalg.norm(points[:, None, :] - nearest, axis=2).min(axis=1)
-    return inside & (distance >= radius)
-
-
 @functools.lru_cache(maxsize=16)
 def grid_for(maze: str, spacing: float) -> Grid:
     """The free positions (clearance >= the robot's radius) of a grid with ``spacing``."""
@@ -58,7 +36,7 @@ def grid_for(maze: str, spacing: float) -> Grid:
     ys = np.arange(-hh + spacing / 2, hh - 1e-9, spacing)
     gx, gy = np.meshgrid(xs, ys)
     points = np.column_stack([gx.ravel(), gy.ravel()])
-    free = free_mask(spec, points, ROBOT_RADIUS)
+    free = spec.free_mask(points, ROBOT_RADIUS)
     return Grid(spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs)), np.flatnonzero(free), points[free])
 
 

@@ -13,8 +13,8 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_env.geometry import wrap_angle
 
-from .geometry import wrap_angle
 from .results import NavRun
 
 

@@ -5,14 +5,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import time
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 import hippo_env
+from hippo_env.files import jsonable
 
 from .analysis import dmtp_summary
 from .args import PaperArgs, parse_args
@@ -102,7 +100,7 @@ def write_outputs(
         "figures": [p.name for p in figures],
         "report": report.name,
     }
-    paper = _jsonable(paper)
+    paper = jsonable(paper)
     hippo_env.atomic_write(out / "paper.json", json.dumps(paper, indent=1) + "\n")
     if args.progress:
         print(f"wrote {report} and {out / 'paper.json'} ({len(figures)} figures) in {wall / 60:.1f} min")
@@ -124,22 +122,6 @@ def experiments_record(args: PaperArgs, data: PaperData, fields: dict[str, Field
         "generalisation": {n: g.to_dict(SCENARIOS[n].explore) for n, g in data.generalisation.items()},
         "aliasing_examples": {m: {"examples": f.examples, "alias_examples": f.alias_examples} for m, f in fields.items()},
     }
-
-
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        return float(x) if math.isfinite(float(x)) else None
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, (np.bool_,)):
-        return bool(x)
-    return x
 
 
 def _source_digest() -> dict[str, str]:
