@@ -1,6 +1,6 @@
 """Sample efficiency: success and indirectness against environment steps, and a goal switch.
 
-Every agent goes through :func:`hippo_env.protocol.run_dmtp`, on the same goals and starts for the
+Every agent goes through :func:`hippo_env.dmtp.run_dmtp`, on the same goals and starts for the
 same seed. A job is one (agent, maze, seed, reward type):
 
 1. **learn.** The hippocampal agent: ``--hippo-days`` DMTP days of ``--hippo-runs`` runs, a fresh
@@ -180,7 +180,7 @@ def make_jobs(args: Args) -> list[Job]:
         jobs.append(Job(agent, maze, seed, reward_type, agent_budget, switch, days, runs, mep, tuple(sorted(overrides.items())), label))
 
     if args.sweep:
-        from baselines.hyperparams import SWEEP
+        from hippomaze.baselines.hyperparams import SWEEP
 
         for point in SWEEP:
             for seed in point.seeds:
@@ -313,16 +313,16 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
     record does not depend on it.
     """
     import hippo_env  # noqa: F401  (registers the environment in this process)
-    from baselines.registry import PRIVILEGED, agent_factory
-    from hippo_env.protocol import run_dmtp
+    from hippomaze.registry import PRIVILEGED, agent_factory
+    from hippo_env.dmtp import run_dmtp
 
     began = time.perf_counter()
     base = agent_factory(job.agent, **dict(job.overrides))
     made: list[_Ledger] = []
     progress = _ProgressFile(progress_file)
 
-    def factory(observation_space: Any, action_space: Any, seed: int) -> _Ledger:
-        ledger = _Ledger(base(observation_space, action_space, seed), progress)
+    def factory(observation_space: Any, action_space: Any, *, seed: int) -> _Ledger:
+        ledger = _Ledger(base(observation_space, action_space, seed=seed), progress)
         made.append(ledger)
         return ledger
 
@@ -368,7 +368,7 @@ def current_config(job: Job) -> dict[str, Any] | None:
     """The parameters a job's agent would run with now (None for an agent without parameters)."""
     overrides = dict(job.overrides)
     if job.agent in ("dqn", "ppo", "dynaq"):
-        from baselines.hyperparams import make_params, params_dict
+        from hippomaze.baselines.hyperparams import make_params, params_dict
 
         return json.loads(json.dumps(params_dict(make_params(job.agent, **overrides))))
     if job.agent == "hippo":

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from baselines import RandomAgent
+from hippomaze.baselines import RandomAgent
 from benchmarks import sample_efficiency as se
 
 pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
