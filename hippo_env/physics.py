@@ -1,6 +1,6 @@
 """The pymunk world: static walls and an iRobot Create 2 body with a differential drive.
 
-Figures (from ``shared/reference/model-figures.md``): the Create 2 is a disc of 0.17 m radius,
+Figures (the authors' reference robot; sources in ``docs/parameters.md``): the Create 2 is a disc of 0.17 m radius,
 wheel axle 0.272 m, top speed 0.5 m/s, turning in place at about 105 deg/s. One control step
 lasts ``CONTROL_DT = 0.3 s`` of simulated time, 0.15 m of travel at top speed: one place-cell
 update of the reference robot (about 0.14 m).
@@ -14,7 +14,7 @@ travel in a step, one physics step integrates the whole control step exactly; ne
 step is cut into substeps of ``SKIN`` travel (the margin of the collision disc: 15 substeps at
 top speed, plus one that only shows the solver the new command) until the robot is clear of
 every wall again, so that the robot never enters a wall, and a blocked robot slides along it or
-stops. Steps near walls cost about three times a free step.
+stops. Steps near walls therefore cost more than free ones.
 """
 
 from __future__ import annotations

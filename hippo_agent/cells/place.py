@@ -20,11 +20,11 @@ class PlaceCells:
     place cell ``j`` to ``i`` on the branch for direction ``k``), zero at the start (eq. 7).
 
     ``W^pp`` is stored compactly: only cells that have taken part in eq. 7 (been active or traced
-    on a learning step; about 40 % of cells ever fire) get a *slot*, and the weights live in a
-    dense float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
+    on a learning step; many cells never fire) get a *slot*, and the weights live in a dense
+    float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
     doubling. Every other entry of the full tensor is exactly zero, so this is the full tensor,
-    not an approximation: about 5 MB instead of 32 MB at 1000 cells, and ~80 MB instead of 512 MB
-    at 4000. Pre-synaptic-first storage makes everything the few active cells drive (preplay,
+    not an approximation, and its memory grows with the cells that learn rather than with N^2
+    (the README's speed section has the figures). Pre-synaptic-first storage makes everything the few active cells drive (preplay,
     replay) one contiguous row gather. :meth:`W_pp_slice` gives the paper's ``W^pp_k`` as a full
     ``(i, j)`` matrix and :attr:`W_pp` the full ``(j, k, i)`` tensor (copies, for analysis).
 
