@@ -180,7 +180,7 @@ def _make_peer(name: str) -> gym.Env | None:
 
         gym.register_envs(gymnasium_robotics)
         return gym.make(name)
-    except Exception as err:  # the optional extra is missing or MuJoCo cannot start: time hippomaze alone
+    except Exception as err:  # noqa: BLE001 (the extra is missing or MuJoCo cannot start: time hippomaze alone)
         _PEER_STATUS["why"] = f"{type(err).__name__}: {err}; install the peers extra: pip install -e .[peers]"
         return None
 
