@@ -4,6 +4,7 @@ analysis (pooling, steps to criterion, IQM intervals, the headline's "> budget")
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import json
 import math
@@ -39,7 +40,9 @@ def quick(tmp_path_factory):
 
 
 def _records(out: Path) -> dict[str, dict]:
-    return {p.name.removesuffix(".json.gz"): jobs.load_record(p) for p in sorted((out / "sample_efficiency").glob("*.json.gz"))}
+    """Every job record under ``out``, as the JSON objects stored (None for one that cannot be read)."""
+    loaded = {p.name.removesuffix(".json.gz"): jobs.load_record(p) for p in sorted((out / "sample_efficiency").glob("*.json.gz"))}
+    return {name: None if record is None else record.to_dict() for name, record in loaded.items()}
 
 
 @needs_sb3
@@ -107,10 +110,10 @@ class TestQuickRun:
         out, _ = quick
         path = out / "sample_efficiency" / "dqn__open__sparse__seed0.json.gz"
         original = jobs.load_record(path)
-        stale = {**original, "agent_config": {**original["agent_config"], "gamma": 0.5}}  # as if a default had changed since
+        stale = dataclasses.replace(original, agent_config={**original.agent_config, "gamma": 0.5})  # as if a default had changed since
         jobs.save_record(path, stale)
         cli.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
-        assert _strip(jobs.load_record(path)) == _strip(original)
+        assert _strip(jobs.load_record(path).to_dict()) == _strip(original.to_dict())
 
 
 class PreparingAgent(RandomAgent):
@@ -139,18 +142,18 @@ class GoalSeeker(RandomAgent):
 def test_goal_switch_day():
     job = jobs.Job("test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, days=1, runs=400, max_episode_steps=300)
     record = jobs.run_job(job)
-    assert record["learn"]["direct_at"] == 0
-    switch = record["switch"]
+    assert record.learn["direct_at"] == 0
+    switch = record.switch
     assert switch["env_steps_total"] == 600 and switch["prepare_steps"] == [0]
     assert math.dist(switch["episodes"]["goal"][0], switch["old_goal"]) >= 2.0  # the goal moved
-    assert switch["old_goal"] == record["learn"]["episodes"]["goal"][-1]
+    assert switch["old_goal"] == record.learn["episodes"]["goal"][-1]
     assert metrics.switch_cost(switch, window=10) == (0, 0)
 
 
 def test_pre_exploration_counts_for_any_agent():
     job = jobs.Job("test_sample_efficiency:PreparingAgent", "open", 0, budget=0, switch_budget=0, days=2, runs=2, max_episode_steps=100)
     record = jobs.run_job(job)
-    learn = record["learn"]
+    learn = record.learn
     assert learn["prepare_steps"] == [123, 123]
     assert learn["env_steps_total"] == 246 + sum(learn["episodes"]["steps"])
 

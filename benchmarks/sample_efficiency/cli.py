@@ -93,7 +93,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "command": command.strip(), "args": dataclasses.asdict(args), "date": datetime.datetime.now().isoformat(timespec="seconds"),
         "python": platform.python_version(), "machine": platform.machine(), "cpus": os.cpu_count(),
         "jobs": len(jobs), "wall_seconds_this_invocation": round(wall, 1),
-        "cpu_seconds_all_jobs": round(sum(r["seconds"] for r in records.values()), 1),
+        "cpu_seconds_all_jobs": round(sum(r.seconds for r in records.values()), 1),
     }  # fmt: skip
     if not args.aggregate:
         return {"meta": meta, "records": records}

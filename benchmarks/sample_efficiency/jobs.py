@@ -105,6 +105,36 @@ def make_jobs(args: Args) -> list[Job]:
     return jobs
 
 
+@dataclass
+class JobRecord:
+    """What one job did: stored as ``<out>/sample_efficiency/<job>.json.gz``, one JSON object with these keys in this order.
+
+    A phase (``learn``, and ``switch`` if the agent had a goal-switch day) is the runner's dmtp.json
+    fields with the episodes as columns, and the step ledger: ``prepare_steps`` (one entry per agent
+    created), ``cut_steps`` (a run cut by the step budget); ``learn`` adds ``direct_at`` (steps to
+    criterion on the first goal, or None), ``switch`` adds ``old_goal``.
+    """
+
+    job: dict[str, Any]  # Job.spec()
+    name: str
+    privileged: bool
+    learn: dict[str, Any]
+    agent_config: dict[str, Any] | None = None
+    switch: dict[str, Any] | None = None  # absent from the JSON when there was no goal-switch day
+    seconds: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        record = {"job": self.job, "name": self.name, "privileged": self.privileged, "learn": self.learn, "agent_config": self.agent_config}
+        if self.switch is not None:
+            record["switch"] = self.switch
+        record["seconds"] = self.seconds
+        return record
+
+    @classmethod
+    def from_dict(cls, record: dict[str, Any]) -> JobRecord:
+        return cls(**record)
+
+
 class _Ledger:
     """Wraps an agent for the runner: counts its pre-exploration steps, and can continue a life.
 
@@ -175,7 +205,6 @@ def _columns(result: Any, prepare_steps: list[int]) -> dict[str, Any]:
     return record
 
 
-
 class _ProgressFile:
     """Writes a job's step count to a small file now and then, for the driver's progress bar."""
 
@@ -201,7 +230,7 @@ def expected_steps(job: Job) -> int:
     return learn + (job.switch_budget if job.agent != "hippo" else min(job.switch_budget, job.runs * 300 + 1000))
 
 
-def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
+def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
     """Run one job (both phases) and return its record. Deterministic for a given job.
 
     ``progress_file``: where to write the number of steps taken so far (for a progress bar); the
@@ -227,15 +256,10 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
         factory, job.maze, trials=job.days, runs=job.runs, seed=job.seed, agent_name=job.agent,
         fresh_agent_per_trial=job.days > 1, step_budget=job.budget or None, **common,
     )  # fmt: skip
-    record: dict[str, Any] = {
-        "job": job.spec(),
-        "name": job.name,
-        "privileged": job.agent in PRIVILEGED,
-        "learn": _columns(learn, [m.prepare_steps for m in made]),
-    }
-    record["agent_config"] = agent_config(made[-1].agent)
-    record["learn"]["direct_at"] = steps_to_criterion(replicates(record["learn"])[-1:], window=SWITCH_WINDOW)
-    if job.switch_budget > 0 and learn.episodes and record["learn"]["direct_at"] is not None:
+    record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.prepare_steps for m in made]))
+    record.agent_config = agent_config(made[-1].agent)
+    record.learn["direct_at"] = steps_to_criterion(replicates(record.learn)[-1:], window=SWITCH_WINDOW)
+    if job.switch_budget > 0 and learn.episodes and record.learn["direct_at"] is not None:
         agent = made[-1]
         agent.skip_prepare = True
         agent.trial_offset = job.days
@@ -243,13 +267,13 @@ def run_job(job: Job, progress_file: str | None = None) -> dict[str, Any]:
         sseed = switch_seed(job.maze, job.seed, old_goal)
         runs = job.runs if job.agent == "hippo" else job.switch_budget // 5 + 1
         switch = run_dmtp(lambda observation_space, action_space, seed: agent, job.maze, trials=1, runs=runs, seed=sseed, agent_name=job.agent, step_budget=job.switch_budget, **common)
-        record["switch"] = _columns(switch, [0])
-        record["switch"]["old_goal"] = [float(v) for v in old_goal]
-    record["seconds"] = time.perf_counter() - began
+        record.switch = _columns(switch, [0])
+        record.switch["old_goal"] = [float(v) for v in old_goal]
+    record.seconds = time.perf_counter() - began
     return record
 
 
-def run_job_task(task: tuple[Job, str | None]) -> dict[str, Any]:
+def run_job_task(task: tuple[Job, str | None]) -> JobRecord:
     """:func:`run_job` on ``(job, progress_file)``: one argument, as the engine calls it."""
     job, progress_file = task
     return run_job(job, progress_file)
@@ -284,14 +308,15 @@ def job_path(out: Path, job: Job, sweep: bool = False) -> Path:
     return folder / f"{job.name}.json.gz"
 
 
-def save_record(path: Path, record: dict[str, Any]) -> None:
+def save_record(path: Path, record: JobRecord) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(path, gzip.compress(json.dumps(record, separators=(",", ":")).encode("utf-8")))
+    atomic_write(path, gzip.compress(json.dumps(record.to_dict(), separators=(",", ":")).encode("utf-8")))
 
 
-def load_record(path: Path) -> dict[str, Any] | None:
+def load_record(path: Path) -> JobRecord | None:
+    """The record at ``path``; None if there is none, or it cannot be read as one."""
     try:
         with gzip.open(path, "rt") as fh:
-            return json.load(fh)
-    except (OSError, EOFError, json.JSONDecodeError):
+            return JobRecord.from_dict(json.load(fh))
+    except (OSError, EOFError, json.JSONDecodeError, TypeError):
         return None

@@ -3,9 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from benchmarks.sample_efficiency.jobs import Job, current_config, expected_steps, job_path, load_record, run_job_task, save_record
+from benchmarks.sample_efficiency.jobs import (
+    Job,
+    JobRecord,
+    current_config,
+    expected_steps,
+    job_path,
+    load_record,
+    run_job_task,
+    save_record,
+)
 from hippomaze import engine
 
 if TYPE_CHECKING:
@@ -19,14 +28,14 @@ def _read_progress(path: Path) -> int:
         return 0
 
 
-def run_jobs(jobs: list[Job], args: Args, out: Path) -> dict[str, dict[str, Any]]:
+def run_jobs(jobs: list[Job], args: Args, out: Path) -> dict[str, JobRecord]:
     """Run the jobs not yet on disk (on the chosen engine); return every job's record by name."""
-    records: dict[str, dict[str, Any]] = {}
+    records: dict[str, JobRecord] = {}
     todo: list[Job] = []
     for job in jobs:
         record = load_record(job_path(out, job, args.sweep))
         # a record is reused only if it was made by the same job with today's defaults
-        if record is not None and record.get("job") == job.spec() and record.get("agent_config") == current_config(job):
+        if record is not None and record.job == job.spec() and record.agent_config == current_config(job):
             records[job.name] = record
         else:
             todo.append(job)
@@ -48,14 +57,14 @@ def run_jobs(jobs: list[Job], args: Args, out: Path) -> dict[str, dict[str, Any]
             steps_bar.n = min(done_steps + sum(_read_progress(progress_path(j)) for j in running), steps_bar.total)
             steps_bar.refresh()
 
-    def finished(job: Job, record: dict[str, Any]) -> None:
+    def finished(job: Job, record: JobRecord) -> None:
         nonlocal done_steps
         save_record(job_path(out, job, args.sweep), record)
         progress_path(job).unlink(missing_ok=True)
         records[job.name] = record
         done_steps += expected_steps(job)
         if bar is not None:
-            bar.set_postfix_str(f"{job.name} {record['seconds']:.0f}s")
+            bar.set_postfix_str(f"{job.name} {record.seconds:.0f}s")
             bar.update(1)
 
     if todo:

@@ -11,20 +11,21 @@ from benchmarks.sample_efficiency.metrics import iqm_ci, metrics_at, replicates,
 
 if TYPE_CHECKING:
     from benchmarks.sample_efficiency.cli import Args
+    from benchmarks.sample_efficiency.jobs import JobRecord
 
 
-def variant(record: dict[str, Any]) -> str:
-    job = record["job"]
+def variant(record: JobRecord) -> str:
+    job = record.job
     label = job.get("label") or job["agent"]
     return label + ("-dense" if job["reward_type"] == "dense" else "")
 
 
-def analyse(records: dict[str, dict[str, Any]], args: Args) -> dict[str, Any]:
+def analyse(records: dict[str, JobRecord], args: Args) -> dict[str, Any]:
     """Curves, headline table and goal-switch figures from the job records."""
-    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    groups: dict[tuple[str, str], list[JobRecord]] = {}
     for record in records.values():
-        groups.setdefault((variant(record), record["job"]["maze"]), []).append(record)
-    top = max((r["learn"]["env_steps_total"] for r in records.values()), default=1000)
+        groups.setdefault((variant(record), record.job["maze"]), []).append(record)
+    top = max((r.learn["env_steps_total"] for r in records.values()), default=1000)
     grid = np.unique(np.round(np.geomspace(100, max(top, 200), 120)))
     variants = sorted({v for v, _ in groups}, key=_variant_order)
     mazes = [m for m in args.mazes if any(k[1] == m for k in groups)] + sorted({m for _, m in groups} - set(args.mazes))
@@ -32,26 +33,26 @@ def analyse(records: dict[str, dict[str, Any]], args: Args) -> dict[str, Any]:
     per_seed: dict[str, dict[str, Any]] = {}
     curves: dict[str, dict[str, Any]] = {}
     for (v, maze), recs in sorted(groups.items()):
-        recs = sorted(recs, key=lambda r: r["job"]["seed"])
-        reps = [replicates(r["learn"]) for r in recs]
+        recs = sorted(recs, key=lambda r: r.job["seed"])
+        reps = [replicates(r.learn) for r in recs]
         succ = np.array([[metrics_at(rp, x, args.window)[0] for x in grid] for rp in reps])
         ind = np.array([[metrics_at(rp, x, args.window)[1] for x in grid] for rp in reps])
         stc = [steps_to_criterion(rp, args.window) for rp in reps]
-        switch = [switch_cost(r["switch"], args.window) if "switch" in r else (None, None) for r in recs]
-        switched = ["switch" in r for r in recs]
-        budget = recs[0]["job"]["budget"] or None
+        switch = [switch_cost(r.switch, args.window) if r.switch is not None else (None, None) for r in recs]
+        switched = [r.switch is not None for r in recs]
+        budget = recs[0].job["budget"] or None
         per_seed[f"{v}/{maze}"] = {
-            "variant": v, "maze": maze, "seeds": [r["job"]["seed"] for r in recs], "budget": budget,
-            "privileged": recs[0]["privileged"],
-            "env_steps_total": [r["learn"]["env_steps_total"] for r in recs],
-            "prepare_steps": [r["learn"]["prepare_steps"] for r in recs],
-            "episodes": [len(r["learn"]["episodes"]["steps"]) for r in recs],
+            "variant": v, "maze": maze, "seeds": [r.job["seed"] for r in recs], "budget": budget,
+            "privileged": recs[0].privileged,
+            "env_steps_total": [r.learn["env_steps_total"] for r in recs],
+            "prepare_steps": [r.learn["prepare_steps"] for r in recs],
+            "episodes": [len(r.learn["episodes"]["steps"]) for r in recs],
             "steps_to_criterion": stc,
             "switch_episodes": [s[0] for s in switch], "switch_steps": [s[1] for s in switch],
-            "switch_budget": recs[0]["job"]["switch_budget"], "switched": switched,
-            "switch_runs": [len(r["switch"]["episodes"]["steps"]) if "switch" in r else None for r in recs],
-            "direct_on_first_goal_at": [r["learn"].get("direct_at") for r in recs],
-            "seconds": [r["seconds"] for r in recs],
+            "switch_budget": recs[0].job["switch_budget"], "switched": switched,
+            "switch_runs": [len(r.switch["episodes"]["steps"]) if r.switch is not None else None for r in recs],
+            "direct_on_first_goal_at": [r.learn.get("direct_at") for r in recs],
+            "seconds": [r.seconds for r in recs],
         }  # fmt: skip
         curves[f"{v}/{maze}"] = {"success": succ, "indirectness": ind}
 
@@ -133,21 +134,21 @@ def summarize_switch(episodes: list[int | None], steps: list[int | None], budget
     }  # fmt: skip
 
 
-def sweep_summary(records: dict[str, dict[str, Any]], args: Args) -> dict[str, Any]:
+def sweep_summary(records: dict[str, JobRecord], args: Args) -> dict[str, Any]:
     rows = []
-    for label in sorted({r["job"]["label"] for r in records.values()}):
-        recs = [r for r in records.values() if r["job"]["label"] == label]
+    for label in sorted({r.job["label"] for r in records.values()}):
+        recs = [r for r in records.values() if r.job["label"] == label]
         stc, final_s, final_i = [], [], []
         for r in recs:
-            (rep,) = replicates(r["learn"])
+            (rep,) = replicates(r.learn)
             stc.append(steps_to_criterion([rep], args.window))
             final_s.append(float(rep.success[-50:].mean()) if rep.end.size else 0.0)
             final_i.append(float(np.median(rep.indirectness[-50:])) if rep.end.size else math.inf)
         rows.append({
-            "name": label.removeprefix("sweep-"), "agent": recs[0]["job"]["agent"], "overrides": recs[0]["job"]["overrides"],
-            "seeds": [r["job"]["seed"] for r in recs], "steps_to_criterion": stc,
+            "name": label.removeprefix("sweep-"), "agent": recs[0].job["agent"], "overrides": recs[0].job["overrides"],
+            "seeds": [r.job["seed"] for r in recs], "steps_to_criterion": stc,
             "final_success_rate": final_s, "final_median_indirectness": [_r(v) for v in final_i],
-            "episodes": [len(r["learn"]["episodes"]["steps"]) for r in recs], "seconds": [round(r["seconds"], 1) for r in recs],
+            "episodes": [len(r.learn["episodes"]["steps"]) for r in recs], "seconds": [round(r.seconds, 1) for r in recs],
         })  # fmt: skip
     return {"budget": args.sweep_budget, "maze": "open", "reward_type": "sparse", "rows": rows}
 
