@@ -36,4 +36,11 @@ command is run again (resumable). Then the summary ``<out>/sample_efficiency.jso
     python -m benchmarks.sample_efficiency --quick --out /tmp/se     # a tiny smoke run
     python -m benchmarks.sample_efficiency --sweep                   # the hyperparameter sweep
     python -m benchmarks.sample_efficiency --engine ray --address auto
+
+Modules, in the order the data flows: ``cli`` (the arguments and ``main``), ``jobs`` (a job, the
+benchmark's list of them, running one, its :class:`~benchmarks.sample_efficiency.jobs.JobRecord` on
+disk), ``ledger`` (the agent wrapper that counts a job's steps), ``runner`` (the jobs not yet on disk,
+on :mod:`hippomaze.engine`), ``metrics`` (replicates, steps to criterion, curve points, IQM
+intervals), ``summary`` (the summary document: curves, per-seed figures, headline), ``report``
+(its Markdown tables) and ``figures``.
 """
