@@ -37,9 +37,16 @@ class DynaQAgent:
 
     privileged = True
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: DynaQParams | None = None, **overrides: Any) -> None:
+    def __init__(
+        self,
+        observation_space: gym.spaces.Space,
+        action_space: gym.spaces.Space,
+        seed: int | None = None,
+        params: DynaQParams | None = None,
+        **overrides: Any,
+    ) -> None:
         if not isinstance(action_space, gym.spaces.Discrete):
-            raise ValueError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")  # noqa: TRY004 (the project raises ValueError for a wrong space)
+            raise ValueError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")
         self.params = make_params("dynaq", **overrides) if params is None else make_params("dynaq", **{**params_dict(params), **overrides})
         self.n_actions = int(action_space.n)
         self.rng = np.random.default_rng(seed)

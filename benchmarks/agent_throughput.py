@@ -54,7 +54,6 @@ def main(argv: list[str] | None = None) -> None:
     load_at_start = load_average()
     print(f"hippomaze agent throughput: {args.steps} recorded steps x {args.repeats} repeats, {args.n_rays} rays")
 
-
     def timed(agent: HippocampalAgent, recorded: list, exploit: bool) -> tuple[float, float, dict]:
         """Best steps/s (wall and CPU) of act + observe over the recorded walk."""
         agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays every step
@@ -69,12 +68,16 @@ def main(argv: list[str] | None = None) -> None:
             best_cpu = max(best_cpu, len(recorded) / max(time.process_time() - began_cpu, 1e-9))
         return best_wall, best_cpu, dict(agent.episode_stats)
 
-
     rows = []
     for n_place in args.cells:
         env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
         env.reset(seed=args.seed)
-        agent = HippocampalAgent(env.observation_space, env.action_space, (AgentConfig.paper if args.model == "paper" else AgentConfig)(n_place=n_place, dry_run_steps=args.dry_run_steps), seed=args.seed)
+        agent = HippocampalAgent(
+            env.observation_space,
+            env.action_space,
+            (AgentConfig.paper if args.model == "paper" else AgentConfig)(n_place=n_place, dry_run_steps=args.dry_run_steps),
+            seed=args.seed,
+        )
         agent.prepare(env)
         agent.start_trial(0)
         observation, info = env.reset(options={"goal": [0.0, 0.0]})
@@ -122,7 +125,8 @@ def main(argv: list[str] | None = None) -> None:
         | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
         "rows": rows,
         "target_steps_per_second_1000_cells": args.target,
-        "meets_target": bool(paper_scale) and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
+        "meets_target": bool(paper_scale)
+        and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
     }
     out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
     out.parent.mkdir(parents=True, exist_ok=True)

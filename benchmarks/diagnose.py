@@ -313,9 +313,12 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
             values = agent.reward_map(env, places)
             ok = np.isfinite(values)
             covered = ok & (values > config.xi_here)
-            record = {"trial": trial, "coverage": float(covered.sum() / max(ok.sum(), 1)),
-                      "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
-                      "replay_reach": replay_reach(agent, env, graph, goal)}
+            record = {
+                "trial": trial,
+                "coverage": float(covered.sum() / max(ok.sum(), 1)),
+                "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
+                "replay_reach": replay_reach(agent, env, graph, goal),
+            }
             per_trial.append(record)
         if run == args_runs - 1:
             rates = agent.place_field_map(env, places)
@@ -326,9 +329,16 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
                 per_trial[-1]["twins_bvc"] = twin_share(bvc, place_distance)
 
     args_runs = 4
-    result = run_dmtp(make, spec, trials=args.trials, runs=args_runs, seed=args.seed,
-                      env_kwargs={"odometry": True} if config.path_integration else None,
-                      progress=True, on_run_end=on_run_end)
+    result = run_dmtp(
+        make,
+        spec,
+        trials=args.trials,
+        runs=args_runs,
+        seed=args.seed,
+        env_kwargs={"odometry": True} if config.path_integration else None,
+        progress=True,
+        on_run_end=on_run_end,
+    )
     ind = result.indirectness()
     ok = result.success()
 

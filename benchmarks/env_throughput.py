@@ -68,10 +68,13 @@ def main(argv: list[str] | None = None) -> None:
     load_at_start = load_average()
     print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
 
-
     # ---------------------------------------------------------------------- one env through gym.make
     peer = _make_peer(args.peer)
-    print(f"  peer: {args.peer} (interleaved with each maze at 720 rays)" if peer else f"  peer: not timed ({args.peer or 'none asked for'}: {_PEER_STATUS['why']})")
+    print(
+        f"  peer: {args.peer} (interleaved with each maze at 720 rays)"
+        if peer
+        else f"  peer: not timed ({args.peer or 'none asked for'}: {_PEER_STATUS['why']})"
+    )
     single = []
     for n_rays in args.rays:
         for maze in args.mazes:
@@ -108,7 +111,6 @@ def main(argv: list[str] | None = None) -> None:
     if peer is not None:
         peer.close()
 
-
     # ---------------------------------------------------------------------- vector envs
     vector = []
     for mode in args.vec_modes if args.vec_envs > 0 else ():
@@ -139,7 +141,6 @@ def main(argv: list[str] | None = None) -> None:
                 f"  {mode:5s} x{args.vec_envs}   {maze:6s} {args.vec_rays:4d} rays: {statistics.median(rates):9,.0f} env steps/s (all sub-envs)"
             )
 
-
     # ---------------------------------------------------------------------- the record
     at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
     at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
@@ -157,8 +158,12 @@ def main(argv: list[str] | None = None) -> None:
         "min_steps_per_second_720_rays": min(at_target_rays) if at_target_rays else None,
         "min_steps_per_cpu_second_720_rays": min(at_target_rays_cpu) if at_target_rays_cpu else None,
         "meets_target": bool(at_target_rays) and min(at_target_rays) >= args.target,
-        "peer": {"name": args.peer, "timed": peer is not None, "why_not": None if peer is not None else _PEER_STATUS["why"],
-                 "min_x_peer_720_rays": min((row["x_peer"] for row in single if "x_peer" in row), default=None)},
+        "peer": {
+            "name": args.peer,
+            "timed": peer is not None,
+            "why_not": None if peer is not None else _PEER_STATUS["why"],
+            "min_x_peer_720_rays": min((row["x_peer"] for row in single if "x_peer" in row), default=None),
+        },
     }
     out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -66,7 +66,9 @@ def main(argv: list[str] | None = None) -> None:
                 "median_cells_active_per_point": float(np.median(active.sum(axis=1))),
             }
         )
-        print(f"  {maze}: coverage {rows[-1]['coverage']:.1%}, {fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena")
+        print(
+            f"  {maze}: coverage {rows[-1]['coverage']:.1%}, {fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena"
+        )
         env.close()
 
     record = {

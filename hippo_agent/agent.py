@@ -45,7 +45,7 @@ import math
 import os
 import zipfile
 from collections.abc import Callable
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -142,18 +142,14 @@ class HippocampalAgent:
     def _check_observation_space(space: Any) -> tuple[int, float, bool]:
         import gymnasium as gym
 
-        allowed = (
-            "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), "
-            "optionally with odometry=Box(..., (2,))"
-        )
+        allowed = "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), optionally with odometry=Box(..., (2,))"
         keys = set(space.spaces) if isinstance(space, gym.spaces.Dict) else set()
         if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
         ranges, heading = space["ranges"], space["heading"]
         if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
             raise ValueError(
-                f"observation space 'ranges' {_describe_space(ranges)} is unsupported; "
-                "allowed: a 1-D Box with at least 8 rays"
+                f"observation space 'ranges' {_describe_space(ranges)} is unsupported; allowed: a 1-D Box with at least 8 rays"
             )
         if not isinstance(heading, gym.spaces.Box) or heading.shape != (2,):
             raise ValueError(
@@ -162,9 +158,7 @@ class HippocampalAgent:
             )
         max_range = float(np.max(ranges.high))
         if not (math.isfinite(max_range) and max_range > 0):
-            raise ValueError(
-                f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0"
-            )
+            raise ValueError(f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0")
         odometry = space.spaces.get("odometry")
         if odometry is not None and (not isinstance(odometry, gym.spaces.Box) or odometry.shape != (2,)):
             raise ValueError(
@@ -335,9 +329,7 @@ class HippocampalAgent:
     def learn_reward(self) -> bool:
         """Backward replay (Algorithm 1) from the current place rates into the current goal's
         reward cell. Returns ``False`` if no place cell was active (nothing to learn)."""
-        learnt = self.reward.learn(
-            self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r
-        )
+        learnt = self.reward.learn(self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r)
         if learnt:
             self.goal_rewarded = True
             self.episode_stats["replays"] += 1
@@ -384,7 +376,7 @@ class HippocampalAgent:
             return np.array([wrap_angle(heading)], dtype=np.float32)
         x = (heading % (2.0 * math.pi)) / (2.0 * math.pi / self.n_actions)
         if self.config.discrete_rounding == "nearest":
-            k = int(math.floor(x + 0.5))
+            k = math.floor(x + 0.5)
         else:  # stochastic rounding: the expected direction is the intended one
             lo = math.floor(x)
             k = lo + int(self.rng.random() < x - lo)
@@ -396,9 +388,7 @@ class HippocampalAgent:
             ranges = np.asarray(observation["ranges"])
             heading_vec = np.asarray(observation["heading"], dtype=np.float64)
         except (KeyError, TypeError, IndexError) as exc:
-            raise ValueError(
-                "observation must be a dict with 'ranges' (n_rays,) and 'heading' (cos, sin)"
-            ) from exc
+            raise ValueError("observation must be a dict with 'ranges' (n_rays,) and 'heading' (cos, sin)") from exc
         if heading_vec.shape != (2,):
             raise ValueError(f"observation 'heading' has shape {heading_vec.shape}; expected (2,)")
         heading = math.atan2(float(heading_vec[1]), float(heading_vec[0]))
@@ -456,9 +446,7 @@ class HippocampalAgent:
             out[n] = self.place_rates_at(obs, None if offset is None else pos - offset)
         return out
 
-    def reward_map(
-        self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0
-    ) -> np.ndarray:
+    def reward_map(self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0) -> np.ndarray:
         """Reward cell ``goal``'s value (eq. 9) at each position, NaN where the env rejects it."""
         rates = self.place_field_map(env, positions, heading)
         if self.reward.n == 0:
@@ -470,30 +458,54 @@ class HippocampalAgent:
         return np.where(np.isnan(total), np.nan, val)
 
     # ================================================================== save / load
-    _ARRAY_HOME = {
-        "W_pb": ("place", "W_pb"), "W_rp": ("reward", "W_rp"),
-        "W_eff": ("reward", "W_eff"), "s": ("place", "s"), "v": ("place", "v"),
-        "trace": ("place", "trace"), "hd_trace": ("place", "hd_trace"), "hd_rates": ("hd", "rates"),
-        "bvc_rates": ("bvc", "rates"), "last_values": ("agent", "last_values"),
-        "s_sense": ("place", "s_sense"), "v_sense": ("place", "v_sense"), "centres": ("place", "centres"),
-        "centre_mass": ("place", "centre_mass"), "spread": ("place", "spread"), "spread_mass": ("place", "spread_mass"),
-        "pi_particles": ("pi", "particles"), "pi_weights": ("pi", "weights"),
-        "pi_estimate": ("pi", "estimate"), "pi_last_step": ("pi", "last_step"),
+    _ARRAY_HOME: ClassVar[dict[str, tuple[str, str]]] = {
+        "W_pb": ("place", "W_pb"),
+        "W_rp": ("reward", "W_rp"),
+        "W_eff": ("reward", "W_eff"),
+        "s": ("place", "s"),
+        "v": ("place", "v"),
+        "trace": ("place", "trace"),
+        "hd_trace": ("place", "hd_trace"),
+        "hd_rates": ("hd", "rates"),
+        "bvc_rates": ("bvc", "rates"),
+        "last_values": ("agent", "last_values"),
+        "s_sense": ("place", "s_sense"),
+        "v_sense": ("place", "v_sense"),
+        "centres": ("place", "centres"),
+        "centre_mass": ("place", "centre_mass"),
+        "spread": ("place", "spread"),
+        "spread_mass": ("place", "spread_mass"),
+        "pi_particles": ("pi", "particles"),
+        "pi_weights": ("pi", "weights"),
+        "pi_estimate": ("pi", "estimate"),
+        "pi_last_step": ("pi", "last_step"),
     }
     _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
     # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
     _STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
-        ("phase", str), ("trial", int), ("goal_rewarded", bool), ("started", bool), ("intended_heading", float),
-        ("segment_left", int), ("escape_left", int), ("heading", float), ("last_decision", str),
-        ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}), ("total_steps", int),
+        ("phase", str),
+        ("trial", int),
+        ("goal_rewarded", bool),
+        ("started", bool),
+        ("intended_heading", float),
+        ("segment_left", int),
+        ("escape_left", int),
+        ("heading", float),
+        ("last_decision", str),
+        ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
+        ("total_steps", int),
     )
     # The path integrator's, under "state" -> "pi".
-    _PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (("frame_started", bool), ("anchored", bool), ("fresh", bool), ("confidence", float))
+    _PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+        ("frame_started", bool),
+        ("anchored", bool),
+        ("fresh", bool),
+        ("confidence", float),
+    )
 
     def _array_slots(self) -> list[tuple[str, Any, str]]:
         """(name in the file, object holding it, attribute) for every saved array."""
-        return [(name, self if owner == "agent" else getattr(self, owner), attr)
-                for name, (owner, attr) in self._ARRAY_HOME.items()]
+        return [(name, self if owner == "agent" else getattr(self, owner), attr) for name, (owner, attr) in self._ARRAY_HOME.items()]
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
@@ -544,11 +556,11 @@ class HippocampalAgent:
         except (OSError, EOFError, zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
             raise ValueError(f"{what}: {type(exc).__name__}: {exc}") from exc
         if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
-            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, "
-                             f"expected {FORMAT_TAG!r}")
+            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, expected {FORMAT_TAG!r}")
         if meta.get("version") != FORMAT_VERSION:
-            raise ValueError(f"{what}: format version {meta.get('version')!r} is unsupported; "
-                             f"this hippo_agent reads version {FORMAT_VERSION}")
+            raise ValueError(
+                f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION}"
+            )
         try:
             config = AgentConfig.from_dict(meta["config"])
             n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])

@@ -235,9 +235,7 @@ class AgentConfig:
 
     def __post_init__(self) -> None:
         def bad(name: str, allowed: str) -> ValueError:
-            return ValueError(
-                f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}"
-            )
+            return ValueError(f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}")
 
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
@@ -273,8 +271,7 @@ class AgentConfig:
 
         if self.n_hd < 4 or self.n_hd % 2:
             raise bad("n_hd", "an even integer >= 4")
-        for n in ("n_bvc_directions", "n_bvc_distances", "n_place", "replay_iterations",
-                  "segment_min"):
+        for n in ("n_bvc_directions", "n_bvc_distances", "n_place", "replay_iterations", "segment_min"):
             if getattr(self, n) < 1:
                 raise bad(n, "an integer >= 1")
         if self.n_bvc_distances < 2:
@@ -286,8 +283,9 @@ class AgentConfig:
             raise bad("segment_max", f"an integer >= segment_min ({self.segment_min})")
         if self.bvc_max_distance is not None:
             positive("bvc_max_distance")
-        positive("bvc_sigma_r", "bvc_beta", "bvc_sigma_theta_deg", "bvc_angular_cutoff",
-                 "bvc_peak_rate", "psi", "alpha_pb", "tau_r", "eta_pp")
+        positive(
+            "bvc_sigma_r", "bvc_beta", "bvc_sigma_theta_deg", "bvc_angular_cutoff", "bvc_peak_rate", "psi", "alpha_pb", "tau_r", "eta_pp"
+        )
         if self.bvc_sigma_theta_deg > 45:
             raise bad("bvc_sigma_theta_deg", "a value in (0, 45] degrees")
         unit_interval("k", "trace_rate", "hd_trace_rate")
@@ -298,8 +296,9 @@ class AgentConfig:
             raise bad("lambda_", "a value in [0, 1]")
         if not 0 <= self.trace_floor < 1:
             raise bad("trace_floor", "a value in [0, 1)")
-        non_negative("Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold",
-                     "pi_motion_noise", "pi_min_motion_noise")
+        non_negative(
+            "Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold", "pi_motion_noise", "pi_min_motion_noise"
+        )
         positive("pi_sigma", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")
@@ -319,9 +318,7 @@ class AgentConfig:
             raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
         unknown = unknown_fields(cls, data)
         if unknown:
-            raise ValueError(
-                f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}"
-            )
+            raise ValueError(f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}")
         return cls(**data)
 
     # ------------------------------------------------------------------ the cells' parameters

@@ -69,8 +69,18 @@ def _draw_goal(ax: Any, goal: Any, goal_radius: float) -> None:
 
 
 def _hexmap(
-    positions: Any, values: Any, ax: Any, gridsize: int, maze: Any, size: Any, goal: Any, goal_radius: float,
-    cmap: str, label: str, title: str | None, colorbar: bool,
+    positions: Any,
+    values: Any,
+    ax: Any,
+    gridsize: int,
+    maze: Any,
+    size: Any,
+    goal: Any,
+    goal_radius: float,
+    cmap: str,
+    label: str,
+    title: str | None,
+    colorbar: bool,
 ) -> tuple[Any, Any]:
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     values = np.asarray(values, dtype=float).ravel()
@@ -84,8 +94,15 @@ def _hexmap(
         w, h = tuple(maze.size) if maze is not None else size
         extent = (-w / 2, w / 2, -h / 2, h / 2)
     hb = ax.hexbin(
-        positions[keep, 0], positions[keep, 1], C=values[keep], reduce_C_function=np.mean,
-        gridsize=gridsize, mincnt=1, cmap=cmap, extent=extent, zorder=1,
+        positions[keep, 0],
+        positions[keep, 1],
+        C=values[keep],
+        reduce_C_function=np.mean,
+        gridsize=gridsize,
+        mincnt=1,
+        cmap=cmap,
+        extent=extent,
+        zorder=1,
     )  # mincnt=1: unvisited bins stay empty
     _draw_goal(ax, goal, goal_radius)
     ax.set_aspect("equal")

@@ -110,7 +110,9 @@ class DMTPResult:
             lengths[e.trial, e.run] = e.path_length
         later = ind[:, 1:]
         summary: dict[str, Any] = {
-            "median_indirectness": [finite_or_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)],
+            "median_indirectness": [
+                finite_or_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)
+            ],
             "success_rate": [float(ok[:, r].mean()) for r in range(self.runs)],
         }
         if self.runs > 1:
@@ -316,7 +318,9 @@ class DMTPInterrupted(KeyboardInterrupt):
 def _check_agent(agent: Any) -> None:
     missing = missing_methods(agent)
     if missing:
-        raise TypeError(f"{type(agent).__name__} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)")
+        raise TypeError(
+            f"{type(agent).__name__} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)"
+        )
 
 
 def _progress(total: int, description: str, enabled: bool):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
@@ -114,7 +114,7 @@ class HippoMazeEnv(gym.Env):
       (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged).
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
 
     def __init__(
         self,
@@ -351,10 +351,19 @@ class HippoMazeEnv(gym.Env):
             values = np.asarray(action, dtype=np.float64).reshape(space.shape)
         except (TypeError, ValueError):
             values = None
-        ok = values is not None and bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
+        ok = (
+            values is not None
+            and bool(np.all(np.isfinite(values)))
+            and bool(np.all(values >= space.low - 1e-6))
+            and bool(np.all(values <= space.high + 1e-6))
+        )
         if not ok:
-            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(self.action_type, "[left, right] wheel speeds")
-            raise ValueError(f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]")
+            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(
+                self.action_type, "[left, right] wheel speeds"
+            )
+            raise ValueError(
+                f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]"
+            )
         return values
 
     def _check_goal(self, goal: Any, where: str) -> np.ndarray:
@@ -456,4 +465,3 @@ def _as_xy(value: Any, where: str) -> np.ndarray:
     if point is None or point.shape != (2,) or not np.all(np.isfinite(point)):
         raise ValueError(f"{where} must be a point [x, y] of two finite numbers in metres, got {value!r}")
     return point
-

@@ -67,7 +67,9 @@ class MazeSpec:
         if size[0] <= 0 or size[1] <= 0:
             raise ValueError(f"maze {self.name!r}: 'size' must be two positive numbers [width, height], got {list(size)}")
         if max(size) > MAX_SIZE:
-            raise ValueError(f"maze {self.name!r}: 'size' {list(size)} is too large; width and height may be at most {MAX_SIZE:g} m (hippo_env.maze.MAX_SIZE)")
+            raise ValueError(
+                f"maze {self.name!r}: 'size' {list(size)} is too large; width and height may be at most {MAX_SIZE:g} m (hippo_env.maze.MAX_SIZE)"
+            )
         object.__setattr__(self, "size", size)
         polygons = []
         if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
@@ -84,8 +86,7 @@ class MazeSpec:
             for k, (x, y) in enumerate(vertices):
                 if abs(x) > half_w or abs(y) > half_h:
                     raise ValueError(
-                        f"{where}, vertex {k} ({x}, {y}) lies outside the arena; "
-                        f"vertices must satisfy |x| <= {half_w} and |y| <= {half_h}"
+                        f"{where}, vertex {k} ({x}, {y}) lies outside the arena; vertices must satisfy |x| <= {half_w} and |y| <= {half_h}"
                     )
             polygons.append(vertices)
         object.__setattr__(self, "obstacles", tuple(polygons))
@@ -114,7 +115,9 @@ class MazeSpec:
         if isinstance(maze, MazeSpec):
             return maze
         if not isinstance(maze, (str, Path)):
-            raise ValueError(f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}")
+            raise ValueError(
+                f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}"
+            )
         if isinstance(maze, str) and maze in BUILTIN_MAZES:
             text = resources.files("hippo_env.mazes").joinpath(f"{maze}.json").read_text()
             return cls.from_dict(json.loads(text), source=f"built-in maze {maze!r}")
@@ -124,7 +127,9 @@ class MazeSpec:
         try:
             text = path.read_text()
         except OSError as err:
-            raise ValueError(f"maze file {str(path)!r} cannot be read ({err.strerror or err}); give a readable JSON file or one of: {_builtin_names()}") from err
+            raise ValueError(
+                f"maze file {str(path)!r} cannot be read ({err.strerror or err}); give a readable JSON file or one of: {_builtin_names()}"
+            ) from err
         try:
             data = json.loads(text)
         except json.JSONDecodeError as err:
@@ -132,7 +137,11 @@ class MazeSpec:
         return cls.from_dict(data, source=f"maze file {str(path)!r}")
 
     def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {"name": self.name, "size": list(self.size), "obstacles": [[list(p) for p in poly] for poly in self.obstacles]}
+        data: dict[str, Any] = {
+            "name": self.name,
+            "size": list(self.size),
+            "obstacles": [[list(p) for p in poly] for poly in self.obstacles],
+        }
         if self.goal is not None:
             data["goal"] = list(self.goal)
         return data
@@ -182,7 +191,14 @@ class MazeSpec:
         """Whether a disc of ``radius`` fits at each of ``points`` (``(k, 2)``): :meth:`is_free` point by point."""
         return self.clearances(points) >= radius
 
-    def sample_free(self, rng: np.random.Generator, clearance: float, away_from: tuple[float, float] | None = None, min_distance: float = 0.0, tries: int = 10_000) -> np.ndarray:
+    def sample_free(
+        self,
+        rng: np.random.Generator,
+        clearance: float,
+        away_from: tuple[float, float] | None = None,
+        min_distance: float = 0.0,
+        tries: int = 10_000,
+    ) -> np.ndarray:
         """A uniform random point at least ``clearance`` from every wall (and ``min_distance`` from ``away_from``)."""
         hw, hh = self.half_extent
         for _ in range(tries):
@@ -191,7 +207,9 @@ class MazeSpec:
                 continue
             if self.clearance(point) >= clearance:
                 return point
-        raise ValueError(f"maze {self.name!r}: found no free point with clearance {clearance} m (and {min_distance} m from {away_from}) in {tries} tries")
+        raise ValueError(
+            f"maze {self.name!r}: found no free point with clearance {clearance} m (and {min_distance} m from {away_from}) in {tries} tries"
+        )
 
     # ------------------------------------------------------------------ connectivity and geodesics
     def check_connected(self, radius: float, resolution: float = CONNECTIVITY_RESOLUTION) -> None:
@@ -380,7 +398,6 @@ def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str)
         raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
 
 
-
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
 
@@ -441,7 +458,9 @@ def _pair_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -
         return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
 
     crossing = (np.sign(cross(a, b, p)) * np.sign(cross(a, b, q)) < 0) & (np.sign(cross(p, q, a)) * np.sign(cross(p, q, b)) < 0)
-    distance = np.minimum.reduce([_point_to_segments(p, a, b), _point_to_segments(q, a, b), _point_to_segments(a, p, q), _point_to_segments(b, p, q)])
+    distance = np.minimum.reduce(
+        [_point_to_segments(p, a, b), _point_to_segments(q, a, b), _point_to_segments(a, p, q), _point_to_segments(b, p, q)]
+    )
     return np.where(crossing, 0.0, distance)
 
 

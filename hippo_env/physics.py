@@ -179,4 +179,3 @@ def _unobstructed_end(x: float, y: float, angle: float, speed: float, spin: floa
     """Where the robot would end the control step with no wall in the way."""
     vx, vy = _chord_velocity(speed, spin, angle, CONTROL_DT)
     return x + vx * CONTROL_DT, y + vy * CONTROL_DT
-

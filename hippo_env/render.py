@@ -64,7 +64,9 @@ class Frame:
     fps: float
 
 
-def draw_maze(maze: Any, ax: Axes, goal: tuple[float, float] | np.ndarray | None = None, goal_radius: float = 0.3, style: MazeStyle = ENV_STYLE) -> Axes:
+def draw_maze(
+    maze: Any, ax: Axes, goal: tuple[float, float] | np.ndarray | None = None, goal_radius: float = 0.3, style: MazeStyle = ENV_STYLE
+) -> Axes:
     """Draw the arena, its obstacles and (optionally) a goal disk on ``ax``; returns ``ax``.
 
     ``maze`` is a :class:`MazeSpec` or any object with its ``size`` and ``obstacles``.
@@ -74,7 +76,9 @@ def draw_maze(maze: Any, ax: Axes, goal: tuple[float, float] | np.ndarray | None
     hw, hh = maze.size[0] / 2, maze.size[1] / 2
     ax.add_patch(Rectangle((-hw, -hh), 2 * hw, 2 * hh, facecolor=style.floor, edgecolor=style.wall, linewidth=style.wall_width, zorder=0))
     for poly in maze.obstacles:
-        ax.add_patch(Polygon(np.asarray(poly), closed=True, facecolor=style.obstacle, edgecolor=style.obstacle_edge, zorder=style.obstacle_zorder))
+        ax.add_patch(
+            Polygon(np.asarray(poly), closed=True, facecolor=style.obstacle, edgecolor=style.obstacle_edge, zorder=style.obstacle_zorder)
+        )
     if goal is not None and np.all(np.isfinite(goal)):
         ax.add_patch(Circle(tuple(goal), goal_radius, facecolor="none", edgecolor=GOAL_COLOUR, linewidth=2, zorder=3))
     margin = style.margin * max(hw, hh)

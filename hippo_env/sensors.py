@@ -17,7 +17,9 @@ _TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True)
-def _scan(x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.ndarray, segments: np.ndarray, max_range: float, out: np.ndarray) -> None:
+def _scan(
+    x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.ndarray, segments: np.ndarray, max_range: float, out: np.ndarray
+) -> None:
     n = ray_cos.shape[0]
     step = _TWO_PI / n
     c, s = math.cos(heading), math.sin(heading)

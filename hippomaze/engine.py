@@ -81,7 +81,9 @@ def map(
     return [results[i] for i in range(len(items))]
 
 
-def _map_local(fn: Callable[[Any], Any], items: list[Any], workers: int, finished: Any, poll: Any, poll_seconds: float, worker_env: Mapping[str, str]) -> None:
+def _map_local(
+    fn: Callable[[Any], Any], items: list[Any], workers: int, finished: Any, poll: Any, poll_seconds: float, worker_env: Mapping[str, str]
+) -> None:
     import multiprocessing
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 

@@ -44,6 +44,7 @@ AGENT_NAMES: tuple[str, ...] = ("hippo", "hippo-paper", "random", "dqn", "ppo", 
 #: Agents that read ``info["position"]`` (shown as "privileged" in every table).
 PRIVILEGED: frozenset[str] = frozenset({"dynaq"})
 
+
 def _hippo(paper: bool = False, **overrides: Any) -> AgentFactory:
     """The hippocampal agent: the default (improved) model, or with ``paper`` the paper's model
     (``AgentConfig.paper()``). The factory's ``env_kwargs`` asks the runner for the odometry
@@ -147,7 +148,7 @@ def agent_factory(name: str, **overrides: Any) -> AgentFactory:
             ``module:Class`` whose constructor cannot take ``(observation_space, action_space)``.
     """
     if not isinstance(name, str):
-        raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")  # noqa: TRY004
+        raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")
     if name in ("hippo", "hippo-paper"):
         return _hippo(paper=name == "hippo-paper", **overrides)
     if name == "random":

@@ -18,7 +18,15 @@ from hippomaze.registry import AGENT_NAMES, PRIVILEGED, agent_factory
 
 pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
 
-TINY_DQN = {"learning_starts": 50, "buffer_size": 500, "batch_size": 16, "train_freq": 4, "gradient_steps": 1, "target_update_interval": 100, "n_timesteps": 600}
+TINY_DQN = {
+    "learning_starts": 50,
+    "buffer_size": 500,
+    "batch_size": 16,
+    "train_freq": 4,
+    "gradient_steps": 1,
+    "target_update_interval": 100,
+    "n_timesteps": 600,
+}
 TINY_PPO = {"n_steps": 64, "batch_size": 16, "n_epochs": 1, "n_timesteps": 600}
 RUN = {"trials": 1, "runs": 200, "max_episode_steps": 150, "progress": False, "fresh_agent_per_trial": False}
 
@@ -76,8 +84,9 @@ class TestRegistry:
         assert agent_factory("hippo").env_kwargs == {"odometry": True}
         assert agent_factory("hippo-paper").env_kwargs == {}
         assert agent_factory("hippo", path_integration=False).env_kwargs == {}
-        result = run_dmtp(agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0,
-                          max_episode_steps=200, progress=False)
+        result = run_dmtp(
+            agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0, max_episode_steps=200, progress=False
+        )
         assert len(result.episodes) == 1 and result.env_steps_total > 100
 
 

@@ -30,7 +30,26 @@ class ForwardAgent:
 
 def test_dmtp_writes_contract_record_and_figures(tmp_path, capsys):
     out = tmp_path / "run"
-    code = main(["dmtp", "--maze", "maze1", "--trials", "2", "--runs", "2", "--seed", "3", "--agent", "random", "--max-steps", "150", "--out", str(out), "--no-progress"])
+    code = main(
+        [
+            "dmtp",
+            "--maze",
+            "maze1",
+            "--trials",
+            "2",
+            "--runs",
+            "2",
+            "--seed",
+            "3",
+            "--agent",
+            "random",
+            "--max-steps",
+            "150",
+            "--out",
+            str(out),
+            "--no-progress",
+        ]
+    )
     assert code == 0
     record = json.loads((out / "dmtp.json").read_text())
     assert {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "episodes"} <= set(record)
@@ -55,7 +74,23 @@ def test_same_seed_same_record(tmp_path):
 
 def test_third_party_agent_by_module_path(tmp_path):
     out = tmp_path / "mine"
-    code = main(["dmtp", "--trials", "1", "--runs", "1", "--agent", "tests.test_cli:ForwardAgent", "--max-steps", "50", "--no-figures", "--no-progress", "--out", str(out)])
+    code = main(
+        [
+            "dmtp",
+            "--trials",
+            "1",
+            "--runs",
+            "1",
+            "--agent",
+            "tests.test_cli:ForwardAgent",
+            "--max-steps",
+            "50",
+            "--no-figures",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     record = json.loads((out / "dmtp.json").read_text())
     assert record["agent"] == "tests.test_cli:ForwardAgent"
@@ -140,7 +175,22 @@ def test_overwrite_clears_what_dmtp_wrote_and_nothing_else(tmp_path, capsys):
 def test_ctrl_c_saves_finished_runs_and_exits_130(tmp_path, capsys):
     InterruptingAgent.runs_started = 0
     out = tmp_path / "run"
-    code = main(["dmtp", "--trials", "3", "--runs", "1", "--agent", "tests.test_cli:InterruptingAgent", "--max-steps", "15", "--no-progress", "--out", str(out)])
+    code = main(
+        [
+            "dmtp",
+            "--trials",
+            "3",
+            "--runs",
+            "1",
+            "--agent",
+            "tests.test_cli:InterruptingAgent",
+            "--max-steps",
+            "15",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 130
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err

@@ -12,10 +12,9 @@ import numpy as np
 import pytest
 
 import hippomaze.paper
-from hippo_env.maze import MazeSpec
 from hippomaze.paper import PaperArgs, parse_args, run_paper
 from hippomaze.paper.analysis import analyse_fields, components, hull_area
-from hippomaze.paper.design import MAZES, SCENARIOS, trial_seed
+from hippomaze.paper.design import SCENARIOS, trial_seed
 from hippomaze.paper.figures import FIGURES
 from hippomaze.paper.geometry import geodesic_to, grid_for
 from hippomaze.paper.procedures import drive_scripted, make_env, replay_at

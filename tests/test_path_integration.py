@@ -64,8 +64,16 @@ def test_bad_sensor_arguments_are_rejected(kwargs):
 
 # ------------------------------------------------------------------ the integrator
 def integrator(**kw):
-    args = {"motion_noise": 0.0, "min_motion_noise": 0.0, "vote_sigma": 0.4, "anchor_radius": 0.3,
-            "anchor_weight": 0.8, "redraw_fraction": 0.2, "lag": 0.0, **kw}
+    args = {
+        "motion_noise": 0.0,
+        "min_motion_noise": 0.0,
+        "vote_sigma": 0.4,
+        "anchor_radius": 0.3,
+        "anchor_weight": 0.8,
+        "redraw_fraction": 0.2,
+        "lag": 0.0,
+        **kw,
+    }
     return PathIntegrator(100, np.random.default_rng(0), **args)
 
 

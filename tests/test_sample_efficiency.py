@@ -12,12 +12,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from hippomaze.baselines import RandomAgent
+
 from benchmarks.sample_efficiency import cli, jobs, metrics, report, summary
 
 # only the runs of DQN and PPO need stable-baselines3: the analysis tests run without it
-needs_sb3 = pytest.mark.skipif(importlib.util.find_spec("stable_baselines3") is None, reason="the DQN/PPO baselines need the 'baselines' extra")
+needs_sb3 = pytest.mark.skipif(
+    importlib.util.find_spec("stable_baselines3") is None, reason="the DQN/PPO baselines need the 'baselines' extra"
+)
 
 HIPPO = importlib.util.find_spec("hippo_agent") is not None
 AGENTS = ["random", "dqn", "ppo", "dynaq"] + (["hippo"] if HIPPO else [])
@@ -164,7 +166,23 @@ def test_ray_and_local_pool_give_the_same_records(quick, tmp_path):
     out, _ = quick
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
-        cli.main([*QUICK, "--agents", "dqn", "ppo", "--mazes", "open", "--dense-seeds", "0", "--engine", "ray", "--out", str(tmp_path), "--no-aggregate"])
+        cli.main(
+            [
+                *QUICK,
+                "--agents",
+                "dqn",
+                "ppo",
+                "--mazes",
+                "open",
+                "--dense-seeds",
+                "0",
+                "--engine",
+                "ray",
+                "--out",
+                str(tmp_path),
+                "--no-aggregate",
+            ]
+        )
     finally:
         ray.shutdown()
     local, remote = _records(out), _records(tmp_path)

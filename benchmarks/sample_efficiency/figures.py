@@ -48,7 +48,10 @@ def plot_curves(summary: dict[str, Any], path: Path) -> None:
                 ax.set_xlabel("environment steps (pre-exploration included)")
             ax.grid(alpha=0.3, which="both", lw=0.4)
     axes[0, 0].legend(fontsize=8, loc="upper left")
-    fig.suptitle(f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {summary['args']['window'] - 1} before it; hippo: {summary['args']['hippo_days']} fresh-agent days per seed)", fontsize=9)
+    fig.suptitle(
+        f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {summary['args']['window'] - 1} before it; hippo: {summary['args']['hippo_days']} fresh-agent days per seed)",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -90,8 +93,11 @@ def plot_switch(summary: dict[str, Any], path: Path) -> None:
         ax.grid(alpha=0.3, which="both", lw=0.4)
     if axes[0].get_legend_handles_labels()[0]:
         axes[0].legend(title="maze (open marker: never)", fontsize=8)
-    fig.suptitle("Goal switch: once an agent is direct on its goal, the goal moves; cost of becoming direct again\n"
-                 "(one point per seed that was direct on the first goal; open marker: not direct again within the switch day)", fontsize=9)
+    fig.suptitle(
+        "Goal switch: once an agent is direct on its goal, the goal moves; cost of becoming direct again\n"
+        "(one point per seed that was direct on the first goal; open marker: not direct again within the switch day)",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

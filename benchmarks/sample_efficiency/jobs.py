@@ -49,7 +49,14 @@ class Job:
 
 
 QUICK_OVERRIDES: dict[str, dict[str, Any]] = {
-    "dqn": {"learning_starts": 100, "buffer_size": 2000, "batch_size": 32, "train_freq": 8, "gradient_steps": 1, "target_update_interval": 200},
+    "dqn": {
+        "learning_starts": 100,
+        "buffer_size": 2000,
+        "batch_size": 32,
+        "train_freq": 8,
+        "gradient_steps": 1,
+        "target_update_interval": 200,
+    },
     "ppo": {"n_steps": 128, "batch_size": 32, "n_epochs": 2},
     "hippo": {"dry_run_steps": 300},
 }
@@ -69,7 +76,16 @@ def make_jobs(args: Args) -> list[Job]:
         mep = mep or 300
     jobs: list[Job] = []
 
-    def add(agent: str, maze: str, seed: int, reward_type: str, extra: dict[str, Any] | None = None, label: str = "", budget: int | None = None, switch_budget: int | None = None) -> None:
+    def add(
+        agent: str,
+        maze: str,
+        seed: int,
+        reward_type: str,
+        extra: dict[str, Any] | None = None,
+        label: str = "",
+        budget: int | None = None,
+        switch_budget: int | None = None,
+    ) -> None:
         switch = args.switch_budget if switch_budget is None else switch_budget
         if agent == "hippo":
             days, runs, agent_budget = args.hippo_days, args.hippo_runs, 0
@@ -86,7 +102,16 @@ def make_jobs(args: Args) -> list[Job]:
 
         for point in SWEEP:
             for seed in point.seeds:
-                add(point.agent, "open", seed, "sparse", dict(point.overrides), label=f"sweep-{point.name}", budget=args.sweep_budget, switch_budget=0)
+                add(
+                    point.agent,
+                    "open",
+                    seed,
+                    "sparse",
+                    dict(point.overrides),
+                    label=f"sweep-{point.name}",
+                    budget=args.sweep_budget,
+                    switch_budget=0,
+                )
         return jobs
     # Cheap agents first, then the expensive ones seed by seed, so that a partial run has the same
     # seeds for every agent and maze; the dense variant last.
@@ -177,8 +202,8 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
     record does not depend on it.
     """
     import hippo_env  # noqa: F401  (registers the environment in this process)
-    from hippomaze.registry import PRIVILEGED, agent_factory
     from hippo_env.dmtp import run_dmtp
+    from hippomaze.registry import PRIVILEGED, agent_factory
 
     began = time.perf_counter()
     base = agent_factory(job.agent, **dict(job.overrides))
@@ -191,7 +216,11 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
         return ledger
 
     sensors = getattr(base, "env_kwargs", {})  # e.g. the hippocampal agent's odometry
-    common = {"env_kwargs": {**sensors, "reward_type": job.reward_type}, "max_episode_steps": job.max_episode_steps or None, "progress": False}
+    common = {
+        "env_kwargs": {**sensors, "reward_type": job.reward_type},
+        "max_episode_steps": job.max_episode_steps or None,
+        "progress": False,
+    }
     learn = run_dmtp(
         factory, job.maze, trials=job.days, runs=job.runs, seed=job.seed, agent_name=job.agent,
         fresh_agent_per_trial=job.days > 1, step_budget=job.budget or None, **common,
@@ -206,7 +235,16 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
         old_goal = learn.episodes[-1].goal
         sseed = switch_seed(job.maze, job.seed, old_goal)
         runs = job.runs if job.agent == "hippo" else job.switch_budget // 5 + 1
-        switch = run_dmtp(lambda observation_space, action_space, seed: agent, job.maze, trials=1, runs=runs, seed=sseed, agent_name=job.agent, step_budget=job.switch_budget, **common)
+        switch = run_dmtp(
+            lambda observation_space, action_space, seed: agent,
+            job.maze,
+            trials=1,
+            runs=runs,
+            seed=sseed,
+            agent_name=job.agent,
+            step_budget=job.switch_budget,
+            **common,
+        )
         record.switch = _columns(switch, [0])
         record.switch["old_goal"] = [float(v) for v in old_goal]
     record.seconds = time.perf_counter() - began

@@ -83,9 +83,13 @@ def analyse(records: dict[str, JobRecord], args: Args) -> dict[str, Any]:
             p = per_seed[key]
             row[maze] = summarize_steps(p["steps_to_criterion"], p["budget"])
             hippo = per_seed.get(f"hippo/{maze}")
-            row[maze]["ratio_to_hippo"] = ratio(row[maze], summarize_steps(hippo["steps_to_criterion"], hippo["budget"])) if hippo and v != "hippo" else None
+            row[maze]["ratio_to_hippo"] = (
+                ratio(row[maze], summarize_steps(hippo["steps_to_criterion"], hippo["budget"])) if hippo and v != "hippo" else None
+            )
             row[maze]["switch"] = summarize_switch(
-                [e for e, sw in zip(p["switch_episodes"], p["switched"]) if sw], [st for st, sw in zip(p["switch_steps"], p["switched"]) if sw], p["switch_budget"]
+                [e for e, sw in zip(p["switch_episodes"], p["switched"]) if sw],
+                [st for st, sw in zip(p["switch_steps"], p["switched"]) if sw],
+                p["switch_budget"],
             )
         headline.append(row)
     return {"curves": out_curves, "per_seed": per_seed, "headline": headline, "variants": variants, "mazes": mazes}
@@ -151,5 +155,3 @@ def sweep_summary(records: dict[str, JobRecord], args: Args) -> dict[str, Any]:
             "episodes": [len(r.learn["episodes"]["steps"]) for r in recs], "seconds": [round(r.seconds, 1) for r in recs],
         })  # fmt: skip
     return {"budget": args.sweep_budget, "maze": "open", "reward_type": "sparse", "rows": rows}
-
-

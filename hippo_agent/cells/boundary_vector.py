@@ -85,7 +85,7 @@ class BoundaryVectorCells:
 
         # Angular weights per direction, precomputed on the ray grid.
         dtheta = 2.0 * np.pi / self.n_rays
-        half = int(math.floor(angular_cutoff * sigma_theta / dtheta))
+        half = math.floor(angular_cutoff * sigma_theta / dtheta)
         half = min(half, (self.n_rays - 1) // 2)  # never count a ray twice
         offsets = np.arange(-half, half + 1)
         centre = np.rint(self.directions / dtheta).astype(np.int64)  # (D,)
@@ -119,9 +119,7 @@ class BoundaryVectorCells:
         Returns an array of shape ``(n_directions * n_distances,)``.
         """
         if ranges.shape != (self.n_rays,):
-            raise ValueError(
-                f"ranges has shape {ranges.shape}; expected ({self.n_rays},) as set by n_rays"
-            )
+            raise ValueError(f"ranges has shape {ranges.shape}; expected ({self.n_rays},) as set by n_rays")
         # allocentric ray j is egocentric ray j - shift (the scan rolled by the heading)
         idx = self._alloc_idx - self.heading_shift(heading)
         np.mod(idx, self.n_rays, out=idx)

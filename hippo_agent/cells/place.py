@@ -116,8 +116,9 @@ class PlaceCells:
         # machine made the 4000 x 400 product 30x slower than one thread; 1000 cells is one block
         return np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
 
-    def _advance(self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float,
-                 extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def _advance(
+        self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float, extra: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """One eq.-3/4 update given ``W_pb b``, ``sum(b)`` and an optional extra input (path integration)."""
         drive = Wb - (self.Gamma_pb * b_sum + self.Gamma_pp * v.sum())
         if extra is not None:
@@ -289,12 +290,14 @@ class PlaceCells:
         """Restore the compact ``W_pp`` (as saved: the cells holding slots and their block)."""
         slot_cells = np.asarray(slot_cells, dtype=np.int64)
         m = slot_cells.size
-        if (slot_cells.ndim != 1 or W_slots.shape != (m, self.n_hd, m)
-                or (m and (slot_cells.min() < 0 or slot_cells.max() >= self.n))
-                or np.unique(slot_cells).size != m):
+        if (
+            slot_cells.ndim != 1
+            or W_slots.shape != (m, self.n_hd, m)
+            or (m and (slot_cells.min() < 0 or slot_cells.max() >= self.n))
+            or np.unique(slot_cells).size != m
+        ):
             raise ValueError(
-                f"W_pp slots {W_slots.shape} for {slot_cells.shape} cells do not fit {self.n} cells "
-                f"and {self.n_hd} directions"
+                f"W_pp slots {W_slots.shape} for {slot_cells.shape} cells do not fit {self.n} cells and {self.n_hd} directions"
             )
         self.slot = np.full(self.n, -1, dtype=np.int64)
         self.slot[slot_cells] = np.arange(m)

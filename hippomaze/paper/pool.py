@@ -41,6 +41,8 @@ def run_tasks(tasks: list[Task], workers: int, progress: bool) -> tuple[dict[str
         bar.update(1)
 
     order = sorted(tasks, key=lambda t: -t.cost)  # the long ones first
-    outs = engine.map(_timed, order, engine="serial" if workers <= 1 else "local", workers=workers, on_result=finished, worker_env=ONE_BLAS_THREAD)
+    outs = engine.map(
+        _timed, order, engine="serial" if workers <= 1 else "local", workers=workers, on_result=finished, worker_env=ONE_BLAS_THREAD
+    )
     bar.close()
     return {t.name: out for t, (out, _) in zip(order, outs)}, {t.name: seconds for t, (_, seconds) in zip(order, outs)}
