@@ -28,7 +28,8 @@ test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check hippo_env hippo_agent baselines benchmarks tests
+	$(VENV)/bin/ruff check hippo_env hippo_agent hippomaze baselines benchmarks tests
+	$(VENV)/bin/ruff format --check hippo_env hippo_agent hippomaze baselines benchmarks tests
 
 clean:
 	rm -rf $(VENV) demo_out .pytest_cache

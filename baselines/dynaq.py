@@ -21,7 +21,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from baselines.hyperparams import DynaQParams, make_params, params_dict
+from .hyperparams import DynaQParams, make_params, params_dict
 
 
 class DynaQAgent:
@@ -31,15 +31,22 @@ class DynaQAgent:
         observation_space: The env's observation space (unused: this agent reads the position).
         action_space: ``Discrete(n)``.
         seed: Seeds the epsilon-greedy draws, tie-breaking and planning samples.
-        params: A :class:`~baselines.hyperparams.DynaQParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.DynaQParams`; ``None`` = the defaults.
         **overrides: Fields of ``DynaQParams`` to change.
     """
 
     privileged = True
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: DynaQParams | None = None, **overrides: Any) -> None:
+    def __init__(
+        self,
+        observation_space: gym.spaces.Space,
+        action_space: gym.spaces.Space,
+        seed: int | None = None,
+        params: DynaQParams | None = None,
+        **overrides: Any,
+    ) -> None:
         if not isinstance(action_space, gym.spaces.Discrete):
-            raise ValueError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")  # noqa: TRY004 (the project raises ValueError for a wrong space)
+            raise ValueError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")
         self.params = make_params("dynaq", **overrides) if params is None else make_params("dynaq", **{**params_dict(params), **overrides})
         self.n_actions = int(action_space.n)
         self.rng = np.random.default_rng(seed)

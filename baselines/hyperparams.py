@@ -23,7 +23,7 @@ non-learned scaling: the scan is divided by ``max_range`` so every input lies in
 Observation
 -----------
 The baselines get exactly the hippocampal agent's observation, ``Dict(ranges, heading)``, turned into
-one flat vector by :class:`baselines.sb3_agents.ScanFeatures` (the brief allows "flattened"):
+one flat vector by :class:`hippomaze.baselines.sb3_agents.ScanFeatures` (the brief allows "flattened"):
 
 - ``allocentric=True`` rotates the egocentric scan by the compass heading so that bin ``j`` looks
   along the world direction ``2*pi*j/n_bins``. This is the same use of the compass that the
@@ -45,7 +45,7 @@ hippocampal agent is, that the goal has moved.
 The tuning sweep
 ----------------
 ``python -m benchmarks.sample_efficiency --sweep`` (see :data:`SWEEP` for the grid and
-:data:`SWEEP_OUTCOME` for the measured outcome). Run on ``open`` with the sparse reward, 100,000
+``docs/baselines.md`` for its outcome and what it taught). Run on ``open`` with the sparse reward, 100,000
 steps, seeds 100 and 101 (not the benchmark's seeds 0-4), scored by the number of steps to the
 criterion (median indirectness <= 1 with >= 90 % success over a window of 10 episodes) and, failing
 that, by the success rate of the last 50 episodes. The defaults below are the winners.
@@ -55,6 +55,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
+
+from hippo_env.files import unknown_fields
 
 
 @dataclass(frozen=True)
@@ -160,10 +162,7 @@ class DynaQParams:
     """Tabular Dyna-Q on a grid over the arena: the PRIVILEGED reference (it reads ``info["position"]``).
 
     Sutton & Barto (2018), section 8.2, "Tabular Dyna-Q", with an epsilon-greedy behaviour policy
-    and optimistic initial values. Tried on open, seed 0, 60,000 steps (median indirectness of the
-    last 10 runs): epsilon 0.1 / q_init 0: ~2 (and still ~1.5 after 300 runs); epsilon 0.02 / q_init 0:
-    1.2; epsilon 0.02 / q_init 0.5: 0.9 from ~40,000 steps on (chosen); epsilon 0 / q_init 0.5 /
-    cell 0.3: erratic (0.4 - 2.4).
+    and optimistic initial values; the settings tried are recorded in ``docs/baselines.md``.
 
     Args:
         cell: Grid cell size in metres (a discrete step moves 0.15 m).
@@ -198,10 +197,10 @@ def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQPa
     if agent not in PARAMS:
         raise ValueError(f"no hyperparameters for agent {agent!r}; known: {', '.join(PARAMS)}")
     cls = PARAMS[agent]
-    allowed = {f.name for f in fields(cls)}
-    unknown = sorted(set(overrides) - allowed)
+    unknown = unknown_fields(cls, overrides)
     if unknown:
-        raise ValueError(f"{cls.__name__} has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))}")
+        allowed = sorted(f.name for f in fields(cls))
+        raise ValueError(f"{cls.__name__} has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
     if "net_arch" in overrides:
         overrides["net_arch"] = tuple(int(v) for v in overrides["net_arch"])
     return replace(cls(), **overrides)
@@ -239,42 +238,4 @@ SWEEP: tuple[SweepPoint, ...] = (
     SweepPoint("ppo-zero-critic-batch64", "ppo", {"batch_size": 64, "zero_init_critic": True}),
 )
 
-#: The sweep's measured outcome (benchmarks/results/sample_efficiency_sweep.json).
-SWEEP_OUTCOME = """
-Measured 2026-11-22 on open, sparse reward, 100,000 steps per seed (2 shared, loaded cores).
-Steps to the criterion (median indirectness <= 1 with >= 90 % success over a window of 10 episodes;
-"-" = not within 100,000), then the last 50 runs (success rate / median indirectness):
-
-  point                        seeds     to criterion    success      median indirectness   runs
-  dqn-zoo (16/8)               100, 101  -, -            0.79, 0.88   139, 58               19, 25
-  dqn-grad4 (16/4)             100, 101  -, -            0.80, 0.75    70, 56               25, 24
-  dqn-grad4-egocentric         100       -               0.79         104                   24
-  ppo-zoo (batch 64)           100, 101  -, -            0.00, 0.00   386, 415              10, 10
-  ppo-batch256                 100, 101  -, -            0.00, 0.00   400, 309              10, 10
-  ppo-ent0.01                  100       -               0.00         458                   10
-  ppo-raw-advantage            100, 101  -, -            0.00, 0.00   441, 369              10, 10
-  ppo-raw-advantage-ent0.01    100       63,508          1.00         0.91                  723
-  ppo-zero-critic (batch 256)  100, 101  31,852, 45,852  1.00, 1.00   0.09, 0.09            2075, 1391
-  ppo-zero-critic-batch64      100, 101  30,706, -       1.00, 0.18   0.09, 207             2148, 11
-
-Outcome. DQN: the zoo's 8 gradient steps per 16 transitions and 4 per 16 (the zoo's CartPole /
-Acrobot ratio) are indistinguishable here; 4 costs 1.7x less compute, so 4 is the default. The
-allocentric scan is kept (no difference at 100k steps; it is the hippocampal model's own use of the
-compass).
-
-PPO: with SB3's default (orthogonally initialised) critic, no configuration found the goal in a
-single run of 10,000 steps, although a uniformly random walk does in most runs. The cause: before
-the first reward every return is 0, but the random critic's output differs from place to place,
-so the advantages push the policy up that random "potential" (Adam scales even tiny gradients to
-full steps, so turning advantage normalisation off does not help on its own). The action
-distribution drifts to one side within ~5,000 steps and the robot is pinned against a wall. An
-entropy bonus of 0.01 on top of raw advantages slows the drift enough for one seed. Starting the
-value head at zero removes the cause: the critic then predicts the zero returns exactly, the policy
-stays uniform until the goal is found, and both seeds become direct (batch 256 on both seeds, batch
-64 on one), so ``zero_init_critic=True`` with batch 256 is the default. On the dense reward (open,
-seed 1, 40,000 steps, SB3's critic) PPO became direct at ~12,000-14,000 steps with either batch
-size. The driver itself was checked against SB3's own ``PPO.learn`` on the dense reward (open,
-seed 0, 40,000 steps: 890 runs, all successful, native; 894, all successful, driven online).
-"""
-
-__all__ = ["PARAMS", "SWEEP", "SWEEP_OUTCOME", "DQNParams", "DynaQParams", "PPOParams", "SweepPoint", "make_params", "params_dict"]
+__all__ = ["PARAMS", "SWEEP", "DQNParams", "DynaQParams", "PPOParams", "SweepPoint", "make_params", "params_dict"]

@@ -39,7 +39,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from baselines.hyperparams import DQNParams, PPOParams, make_params, params_dict
+from .hyperparams import DQNParams, PPOParams, make_params, params_dict
 
 INSTALL_HINT = "pip install torch==2.13.0 && pip install -e .[baselines]"
 
@@ -50,7 +50,9 @@ def _import_sb3():
         import stable_baselines3
         import torch
     except ImportError as err:  # pragma: no cover - exercised only without the extra
-        raise ImportError(f"the DQN and PPO baselines need torch and stable-baselines3 (the 'baselines' extra): {INSTALL_HINT} ({err})") from err
+        raise ImportError(
+            f"the DQN and PPO baselines need torch and stable-baselines3 (the 'baselines' extra): {INSTALL_HINT} ({err})"
+        ) from err
     return torch, stable_baselines3
 
 
@@ -61,7 +63,7 @@ class ScanFeatures:
         observation_space: The environment's ``Dict(ranges=Box, heading=Box)`` space.
         n_bins: Equal angular sectors the rays are mean-pooled into (must divide the ray count).
         allocentric: Rotate the scan by the compass heading so that bin ``j`` looks along the
-            world direction ``2*pi*j/n_bins`` (see :mod:`baselines.hyperparams`).
+            world direction ``2*pi*j/n_bins`` (see :mod:`hippomaze.baselines.hyperparams`).
     """
 
     def __init__(self, observation_space: gym.spaces.Space, n_bins: int = 90, allocentric: bool = True) -> None:
@@ -195,7 +197,7 @@ def _quiet_logger():
 
 def _check_discrete(action_space: gym.spaces.Space, name: str) -> None:
     if not isinstance(action_space, gym.spaces.Discrete):
-        raise ValueError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")  # noqa: TRY004
+        raise ValueError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
 
 
 class _SB3Agent:
@@ -203,7 +205,9 @@ class _SB3Agent:
 
     algo = ""
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None, params: Any, overrides: dict[str, Any]) -> None:
+    def __init__(
+        self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None, params: Any, overrides: dict[str, Any]
+    ) -> None:
         params = make_params(self.algo, **overrides) if params is None else make_params(self.algo, **{**params_dict(params), **overrides})
         torch, _ = _import_sb3()
         torch.set_num_threads(1)
@@ -251,13 +255,20 @@ class DQNAgent(_SB3Agent):
         observation_space: The env's ``Dict(ranges, heading)`` space.
         action_space: ``Discrete(n)``.
         seed: Seeds the network, the replay sampling and the epsilon-greedy draws.
-        params: A :class:`~baselines.hyperparams.DQNParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.DQNParams`; ``None`` = the defaults.
         **overrides: Fields of ``DQNParams`` to change (e.g. ``learning_rate=1e-3``).
     """
 
     algo = "dqn"
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: DQNParams | None = None, **overrides: Any) -> None:
+    def __init__(
+        self,
+        observation_space: gym.spaces.Space,
+        action_space: gym.spaces.Space,
+        seed: int | None = None,
+        params: DQNParams | None = None,
+        **overrides: Any,
+    ) -> None:
         super().__init__(observation_space, action_space, seed, params, overrides)
         params = self.params
         from stable_baselines3 import DQN
@@ -338,13 +349,20 @@ class PPOAgent(_SB3Agent):
         observation_space: The env's ``Dict(ranges, heading)`` space.
         action_space: ``Discrete(n)``.
         seed: Seeds the networks, the minibatch shuffling and the action draws.
-        params: A :class:`~baselines.hyperparams.PPOParams`; ``None`` = the defaults.
+        params: A :class:`~hippomaze.baselines.hyperparams.PPOParams`; ``None`` = the defaults.
         **overrides: Fields of ``PPOParams`` to change (e.g. ``ent_coef=0.01``).
     """
 
     algo = "ppo"
 
-    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space, seed: int | None = None, params: PPOParams | None = None, **overrides: Any) -> None:
+    def __init__(
+        self,
+        observation_space: gym.spaces.Space,
+        action_space: gym.spaces.Space,
+        seed: int | None = None,
+        params: PPOParams | None = None,
+        **overrides: Any,
+    ) -> None:
         super().__init__(observation_space, action_space, seed, params, overrides)
         params = self.params
         from stable_baselines3 import PPO
@@ -378,7 +396,7 @@ class PPOAgent(_SB3Agent):
         from stable_baselines3.common.distributions import CategoricalDistribution
 
         if not isinstance(self.policy.action_dist, CategoricalDistribution):
-            raise ValueError("PPOAgent supports the categorical policy of a Discrete action space only")  # noqa: TRY004
+            raise ValueError("PPOAgent supports the categorical policy of a Discrete action space only")
         extractor = self.policy.mlp_extractor
         self.pi_net = _NumpyMLP(extractor.policy_net, self.policy.action_net)
         self.vf_net = _NumpyMLP(extractor.value_net, self.policy.value_net)
@@ -412,7 +430,9 @@ class PPOAgent(_SB3Agent):
         reward = float(reward)
         if truncated and not terminated:  # a time-out is not a terminal state: bootstrap (SB3 GH#633)
             reward += p.gamma * float(self.vf_net(self.features(observation))[0])
-        self.buffer.add(self._x[None], np.array([[stored_action]]), np.array([reward], np.float32), np.array([self._episode_start]), value, log_prob)
+        self.buffer.add(
+            self._x[None], np.array([[stored_action]]), np.array([reward], np.float32), np.array([self._episode_start]), value, log_prob
+        )
         done = bool(terminated or truncated)
         self._episode_start = done
         self.num_timesteps += 1

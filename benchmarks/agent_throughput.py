@@ -5,8 +5,8 @@ exists and every later step exploits with 8-way preplay), then is timed alone on
 random walk of real observations: once exploiting, once exploring. One replay is timed too, and
 the memory of the place->place tensor is read off the agent.
 
-    python benchmarks/agent_throughput.py            # writes benchmarks/results/agent_throughput.json
-    python benchmarks/agent_throughput.py --cells 250 --steps 500 --out /tmp/quick.json
+    python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
+    python -m benchmarks.agent_throughput --cells 250 --steps 500 --out /tmp/quick.json
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ import numpy as np
 import hippo_env
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_env.dmtp import rollout
 
 
 @dataclass
@@ -48,86 +49,90 @@ class Args:
     """where the JSON goes (relative to the repository root unless absolute)"""
 
 
-args = parse_dataclass_args(Args, __doc__.splitlines()[0])
-load_at_start = load_average()
-print(f"hippomaze agent throughput: {args.steps} recorded steps x {args.repeats} repeats, {args.n_rays} rays")
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    load_at_start = load_average()
+    print(f"hippomaze agent throughput: {args.steps} recorded steps x {args.repeats} repeats, {args.n_rays} rays")
+
+    def timed(agent: HippocampalAgent, recorded: list, exploit: bool) -> tuple[float, float, dict]:
+        """Best steps/s (wall and CPU) of act + observe over the recorded walk."""
+        agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays every step
+        best_wall = best_cpu = 0.0
+        for _ in range(args.repeats):
+            agent.reset(recorded[0][1], recorded[0][2])
+            began, began_cpu = time.perf_counter(), time.process_time()
+            for action, observation, info in recorded:
+                agent.act(observation)
+                agent.observe(action, observation, 0.0, False, False, info)
+            best_wall = max(best_wall, len(recorded) / (time.perf_counter() - began))
+            best_cpu = max(best_cpu, len(recorded) / max(time.process_time() - began_cpu, 1e-9))
+        return best_wall, best_cpu, dict(agent.episode_stats)
+
+    rows = []
+    for n_place in args.cells:
+        env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
+        env.reset(seed=args.seed)
+        agent = HippocampalAgent(
+            env.observation_space,
+            env.action_space,
+            (AgentConfig.paper if args.model == "paper" else AgentConfig)(n_place=n_place, dry_run_steps=args.dry_run_steps),
+            seed=args.seed,
+        )
+        agent.prepare(env)
+        agent.start_trial(0)
+        observation, info = env.reset(options={"goal": [0.0, 0.0]})
+        agent.reset(observation, info)
+        rollout(env, agent, observation)  # run 1: explore until the goal, which triggers the replay
+        began = time.perf_counter()
+        agent.learn_reward()
+        replay_ms = 1e3 * (time.perf_counter() - began)
+
+        walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
+        recorded = []
+        observation, info = env.reset(options={"goal": None})
+        for action in walk.tolist():
+            observation, _, _, _, info = env.step(action)
+            recorded.append((action, observation, info))
+        exploit_wall, exploit_cpu, exploit_stats = timed(agent, recorded, exploit=True)
+        explore_wall, explore_cpu, _ = timed(agent, recorded, exploit=False)
+        w_pp_bytes = int(sum(a.nbytes for a in vars(agent.place).values() if isinstance(a, np.ndarray) and a.ndim == 3))
+        rows.append(
+            {
+                "n_place": n_place,
+                "n_bvc": agent.bvc.n,
+                "exploiting_steps_per_second": round(exploit_wall),
+                "exploiting_steps_per_cpu_second": round(exploit_cpu),
+                "exploit_decisions": exploit_stats,
+                "exploring_steps_per_second": round(explore_wall),
+                "exploring_steps_per_cpu_second": round(explore_cpu),
+                "replay_ms": round(replay_ms, 2),
+                "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
+                "max_rss_megabytes": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+            }
+        )
+        print(
+            f"  {n_place:5d} place cells: exploiting {exploit_wall:7,.0f} steps/s ({exploit_cpu:,.0f} per CPU second), "
+            f"exploring {explore_wall:7,.0f}; one replay {replay_ms:.1f} ms; W_pp {w_pp_bytes / 2**20:.1f} MB"
+        )
+        env.close()
+
+    paper_scale = [r for r in rows if r["n_place"] == 1000]
+    record = {
+        "command": command_line(),
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "args": dataclasses.asdict(args),
+        "machine": machine_info(numpy=np.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__)
+        | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
+        "rows": rows,
+        "target_steps_per_second_1000_cells": args.target,
+        "meets_target": bool(paper_scale)
+        and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
+    }
+    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    hippo_env.write_json(out, record)
+    print(f"wrote {out}")
 
 
-def timed(agent: HippocampalAgent, recorded: list, exploit: bool) -> tuple[float, float, dict]:
-    """Best steps/s (wall and CPU) of act + observe over the recorded walk."""
-    agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays every step
-    best_wall = best_cpu = 0.0
-    for _ in range(args.repeats):
-        agent.reset(recorded[0][1], recorded[0][2])
-        began, began_cpu = time.perf_counter(), time.process_time()
-        for action, observation, info in recorded:
-            agent.act(observation)
-            agent.observe(action, observation, 0.0, False, False, info)
-        best_wall = max(best_wall, len(recorded) / (time.perf_counter() - began))
-        best_cpu = max(best_cpu, len(recorded) / max(time.process_time() - began_cpu, 1e-9))
-    return best_wall, best_cpu, dict(agent.episode_stats)
-
-
-rows = []
-for n_place in args.cells:
-    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
-    env.reset(seed=args.seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, (AgentConfig.paper if args.model == "paper" else AgentConfig)(n_place=n_place, dry_run_steps=args.dry_run_steps), seed=args.seed)
-    agent.prepare(env)
-    agent.start_trial(0)
-    observation, info = env.reset(options={"goal": [0.0, 0.0]})
-    agent.reset(observation, info)
-    done = False
-    while not done:  # run 1: explore until the goal, which triggers the replay
-        action = agent.act(observation)
-        observation, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, observation, reward, terminated, truncated, info)
-        done = terminated or truncated
-    began = time.perf_counter()
-    agent.learn_reward()
-    replay_ms = 1e3 * (time.perf_counter() - began)
-
-    walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
-    recorded = []
-    observation, info = env.reset(options={"goal": None})
-    for action in walk.tolist():
-        observation, _, _, _, info = env.step(action)
-        recorded.append((action, observation, info))
-    exploit_wall, exploit_cpu, exploit_stats = timed(agent, recorded, exploit=True)
-    explore_wall, explore_cpu, _ = timed(agent, recorded, exploit=False)
-    w_pp_bytes = int(sum(a.nbytes for a in vars(agent.place).values() if isinstance(a, np.ndarray) and a.ndim == 3))
-    rows.append(
-        {
-            "n_place": n_place,
-            "n_bvc": agent.bvc.n,
-            "exploiting_steps_per_second": round(exploit_wall),
-            "exploiting_steps_per_cpu_second": round(exploit_cpu),
-            "exploit_decisions": exploit_stats,
-            "exploring_steps_per_second": round(explore_wall),
-            "exploring_steps_per_cpu_second": round(explore_cpu),
-            "replay_ms": round(replay_ms, 2),
-            "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
-            "max_rss_megabytes": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        }
-    )
-    print(
-        f"  {n_place:5d} place cells: exploiting {exploit_wall:7,.0f} steps/s ({exploit_cpu:,.0f} per CPU second), "
-        f"exploring {explore_wall:7,.0f}; one replay {replay_ms:.1f} ms; W_pp {w_pp_bytes / 2**20:.1f} MB"
-    )
-    env.close()
-
-paper_scale = [r for r in rows if r["n_place"] == 1000]
-record = {
-    "command": command_line(),
-    "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-    "args": dataclasses.asdict(args),
-    "machine": machine_info(numpy=np.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__)
-    | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
-    "rows": rows,
-    "target_steps_per_second_1000_cells": args.target,
-    "meets_target": bool(paper_scale) and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
-}
-out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-out.parent.mkdir(parents=True, exist_ok=True)
-hippo_env.write_json(out, record)
-print(f"wrote {out}")
+if __name__ == "__main__":
+    main()

@@ -41,11 +41,11 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
-from benchmarks.paper import spearman
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
+from hippo_env.dmtp import run_dmtp
 from hippo_env.maze import MazeSpec
-from hippo_env.protocol import run_dmtp
+from hippomaze.paper.statistics import spearman
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5
@@ -90,7 +90,7 @@ class FreeGraph:
         self.spacing, self.origin, self.shape = spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs))
         gx, gy = np.meshgrid(xs, ys)
         points = np.column_stack([gx.ravel(), gy.ravel()])
-        self.free = np.array([spec.clearance(p) >= ROBOT_RADIUS for p in points])
+        self.free = spec.free_mask(points, ROBOT_RADIUS)
         rows, cols = self.shape
         idx = np.arange(rows * cols).reshape(rows, cols)
         src, dst, w = [], [], []
@@ -127,7 +127,7 @@ def sample_places(spec: MazeSpec, spacing: float = SAMPLE_SPACING) -> np.ndarray
     xs = np.arange(-hw + spacing / 2, hw, spacing)
     ys = np.arange(-hh + spacing / 2, hh, spacing)
     points = np.array([(x, y) for y in ys for x in xs])
-    return points[[spec.clearance(p) >= 0.3 for p in points]]
+    return points[spec.free_mask(points, 0.3)]
 
 
 def across_walls(rates: np.ndarray, places: np.ndarray, path_distance: np.ndarray) -> float | None:
@@ -313,9 +313,12 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
             values = agent.reward_map(env, places)
             ok = np.isfinite(values)
             covered = ok & (values > config.xi_here)
-            record = {"trial": trial, "coverage": float(covered.sum() / max(ok.sum(), 1)),
-                      "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
-                      "replay_reach": replay_reach(agent, env, graph, goal)}
+            record = {
+                "trial": trial,
+                "coverage": float(covered.sum() / max(ok.sum(), 1)),
+                "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
+                "replay_reach": replay_reach(agent, env, graph, goal),
+            }
             per_trial.append(record)
         if run == args_runs - 1:
             rates = agent.place_field_map(env, places)
@@ -326,9 +329,16 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
                 per_trial[-1]["twins_bvc"] = twin_share(bvc, place_distance)
 
     args_runs = 4
-    result = run_dmtp(make, spec, trials=args.trials, runs=args_runs, seed=args.seed,
-                      env_kwargs={"odometry": True} if config.path_integration else None,
-                      progress=True, on_run_end=on_run_end)
+    result = run_dmtp(
+        make,
+        spec,
+        trials=args.trials,
+        runs=args_runs,
+        seed=args.seed,
+        env_kwargs={"odometry": True} if config.path_integration else None,
+        progress=True,
+        on_run_end=on_run_end,
+    )
     ind = result.indirectness()
     ok = result.success()
 

@@ -16,7 +16,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import multiprocessing
 import resource
 import time
@@ -79,8 +78,15 @@ def _set_up(maze: Any, queue: Any) -> None:
     env = gym.make("HippoMaze-v0", maze=maze)
     made = time.perf_counter()
     env.reset(seed=0)
-    queue.put({"make_seconds": made - began, "make_and_reset_seconds": time.perf_counter() - began,
-               "resident_before_mb": before, "peak_mb": _peak_megabytes(), "peak_above_import_mb": _peak_megabytes() - before})
+    queue.put(
+        {
+            "make_seconds": made - began,
+            "make_and_reset_seconds": time.perf_counter() - began,
+            "resident_before_mb": before,
+            "peak_mb": _peak_megabytes(),
+            "peak_above_import_mb": _peak_megabytes() - before,
+        }
+    )
     env.close()
 
 
@@ -100,6 +106,7 @@ def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
 
     import hippo_env  # noqa: F401
     from hippo_agent import HippocampalAgent
+    from hippo_env.dmtp import rollout
 
     env = gym.make("HippoMaze-v0", maze=maze, odometry=True).unwrapped  # no time limit
     agent = HippocampalAgent(env.observation_space, env.action_space, seed=seed)
@@ -107,17 +114,22 @@ def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
     agent.reset(obs, info)
     samples = [{"step": 0, "resident_mb": resident_megabytes()}]
     began = time.perf_counter()
-    for step in range(1, steps + 1):
-        action = agent.act(obs)
-        obs, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, obs, reward, terminated, truncated, info)
-        if terminated or truncated:
+    step = 0
+    while step < steps:
+        end = rollout(env, agent, obs, max_steps=min(every, steps - step))
+        obs, step = end.observation, step + end.steps
+        if end.terminated or end.truncated:
             raise RuntimeError(f"the goal-free run ended at step {step}; it should not end")
-        if step % every == 0 or step == steps:
-            samples.append({"step": step, "resident_mb": resident_megabytes(), "seconds": time.perf_counter() - began})
-            print(f"  step {step:>9,}: {samples[-1]['resident_mb']:.0f} MB resident", flush=True)
-    return {"maze": maze, "steps": steps, "samples": samples, "peak_mb": _peak_megabytes(),
-            "path_rows_kept": len(env.unwrapped.path), "steps_per_second": steps / (time.perf_counter() - began)}
+        samples.append({"step": step, "resident_mb": resident_megabytes(), "seconds": time.perf_counter() - began})
+        print(f"  step {step:>9,}: {samples[-1]['resident_mb']:.0f} MB resident", flush=True)
+    return {
+        "maze": maze,
+        "steps": steps,
+        "samples": samples,
+        "peak_mb": _peak_megabytes(),
+        "path_rows_kept": len(env.unwrapped.path),
+        "steps_per_second": steps / (time.perf_counter() - began),
+    }
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -125,15 +137,24 @@ def main(argv: list[str] | None = None) -> None:
     from hippo_env.maze import MazeSpec
 
     load_start = load_average()
-    large = MazeSpec.from_dict({"name": f"large-{args.size:g}", "size": [args.size, args.size],
-                                "obstacles": rectangles(args.size, args.obstacles, args.seed)})
+    large = MazeSpec.from_dict(
+        {"name": f"large-{args.size:g}", "size": [args.size, args.size], "obstacles": rectangles(args.size, args.obstacles, args.seed)}
+    )
     set_up = {}
     for name, maze in (("open", "open"), ("maze2", "maze2"), (large.name, large)):
         set_up[name] = set_up_cost(maze)
-        print(f"set-up {name}: {set_up[name]['make_and_reset_seconds']:.2f} s, "
-              f"peak {set_up[name]['peak_above_import_mb']:.0f} MB above the imports", flush=True)
-    record: dict[str, Any] = {"command": command_line(), "machine": machine_info(), "load_start": load_start,
-                              "set_up": set_up, "large_maze": {"size": args.size, "obstacles": args.obstacles, "seed": args.seed}}
+        print(
+            f"set-up {name}: {set_up[name]['make_and_reset_seconds']:.2f} s, "
+            f"peak {set_up[name]['peak_above_import_mb']:.0f} MB above the imports",
+            flush=True,
+        )
+    record: dict[str, Any] = {
+        "command": command_line(),
+        "machine": machine_info(),
+        "load_start": load_start,
+        "set_up": set_up,
+        "large_maze": {"size": args.size, "obstacles": args.obstacles, "seed": args.seed},
+    }
     if args.steps:
         print(f"long goal-free run: {args.steps:,} steps in {args.maze}", flush=True)
         record["long_run"] = long_run(args.maze, args.steps, args.every, args.seed)

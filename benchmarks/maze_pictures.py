@@ -1,7 +1,7 @@
 """Every built-in maze side by side, for the README: ``docs/mazes.png``.
 
-python benchmarks/maze_pictures.py
-python benchmarks/maze_pictures.py --mazes open maze1 --out /tmp/mazes.png
+python -m benchmarks.maze_pictures
+python -m benchmarks.maze_pictures --mazes open maze1 --out /tmp/mazes.png
 """
 
 from __future__ import annotations
@@ -33,16 +33,21 @@ class Args:
     """where the PNG goes (relative to the repository root unless absolute)"""
 
 
-args = parse_dataclass_args(Args, __doc__.splitlines()[0])
-fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
-for ax, maze in zip(axes[0], args.mazes):
-    plot_maze(maze, ax=ax)
-    ax.set_xticks([-5, 0, 5])
-    ax.set_yticks([-5, 0, 5])
-    if ax is not axes[0][0]:
-        ax.set_ylabel("")
-fig.tight_layout()
-out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-out.parent.mkdir(parents=True, exist_ok=True)
-fig.savefig(out, dpi=args.dpi)
-print(f"wrote {out}")
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    fig, axes = plt.subplots(1, len(args.mazes), figsize=(args.panel_inches * len(args.mazes), args.panel_inches + 0.4), squeeze=False)
+    for ax, maze in zip(axes[0], args.mazes):
+        plot_maze(maze, ax=ax)
+        ax.set_xticks([-5, 0, 5])
+        ax.set_yticks([-5, 0, 5])
+        if ax is not axes[0][0]:
+            ax.set_ylabel("")
+    fig.tight_layout()
+    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=args.dpi)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -63,7 +63,7 @@ def maze_source(name: str) -> str:
 
 def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, config_json: str = "", env_json: str = "") -> dict[str, Any]:
     from hippo_agent import AgentConfig, HippocampalAgent
-    from hippo_env.protocol import run_dmtp
+    from hippo_env.dmtp import run_dmtp
 
     overrides = {} if dry_run_steps < 0 else {"dry_run_steps": dry_run_steps}
     overrides.update(json.loads(config_json) if config_json else {})
@@ -71,13 +71,22 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
     env_kwargs = {"odometry": True} if config.path_integration else {}
     env_kwargs.update(json.loads(env_json) if env_json else {})
     began = time.process_time()
-    result = run_dmtp(lambda o, a, seed: HippocampalAgent(o, a, config, seed=seed), maze_source(maze), trials=trials, runs=4,
-                      seed=seed, env_kwargs=env_kwargs, progress=False)
+    result = run_dmtp(
+        lambda o, a, seed: HippocampalAgent(o, a, config, seed=seed),
+        maze_source(maze),
+        trials=trials,
+        runs=4,
+        seed=seed,
+        env_kwargs=env_kwargs,
+        progress=False,
+    )
     ind, ok = result.indirectness(), result.success()
     summary = result.summary()
     later = ind[:, 1:]
     return {
-        "maze": maze, "seed": seed, "trials": trials,
+        "maze": maze,
+        "seed": seed,
+        "trials": trials,
         "median_per_run": summary["median_indirectness"],
         "runs_2_4_median": float(np.nanmedian(later)),
         "runs_2_4_reached": float(ok[:, 1:].mean()),
@@ -93,15 +102,18 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
 def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Per maze, every seed's days together: the run-1 length vs run-2 indirectness correlation
     (Pearson r with a 95 % bootstrap interval over days; the paper's Fig. 6 gives r = -0.53)."""
-    from benchmarks.paper import pearson_with_ci
+    from hippomaze.paper.statistics import pearson_with_ci
 
     out: dict[str, dict[str, Any]] = {}
     for maze in dict.fromkeys(r["maze"] for r in rows):
         mine = [r for r in rows if r["maze"] == maze]
         lengths = [x for r in mine for x in r["run1_lengths"]]
         second = [np.nan if x is None else x for r in mine for x in r["run2_indirectness"]]
-        out[maze] = {"seeds": [r["seed"] for r in mine], "days": len(lengths),
-                     "pearson_run1_length_run2_indirectness": pearson_with_ci(np.array(lengths), np.array(second), seed=0)}
+        out[maze] = {
+            "seeds": [r["seed"] for r in mine],
+            "days": len(lengths),
+            "pearson_run1_length_run2_indirectness": pearson_with_ci(np.array(lengths), np.array(second), seed=0),
+        }
     return out
 
 
@@ -118,16 +130,28 @@ def main(argv: list[str] | None = None) -> None:
         for f in futures:
             rows.append(f.result())
             r = rows[-1]
-            print(f"{r['maze']:>18} seed {r['seed']}: runs 2-4 median {r['runs_2_4_median']:.2f}, reached {r['runs_2_4_reached']:.0%}, "
-                  f"per run {[None if x is None else round(x, 2) for x in r['median_per_run']]}", flush=True)
+            print(
+                f"{r['maze']:>18} seed {r['seed']}: runs 2-4 median {r['runs_2_4_median']:.2f}, reached {r['runs_2_4_reached']:.0%}, "
+                f"per run {[None if x is None else round(x, 2) for x in r['median_per_run']]}",
+                flush=True,
+            )
     pooled = pool_seeds(rows)
     for maze, p in pooled.items():
         r = p["pearson_run1_length_run2_indirectness"]
         if r["r"] is not None:
-            print(f"{maze:>18} seeds {p['seeds']}: run-1 length vs run-2 indirectness r = {r['r']:.2f} "
-                  f"(95 % CI {r['ci95'][0]:.2f} to {r['ci95'][1]:.2f}, n = {r['n']})")
-    record = {"command": command_line(), "model": args.model, "machine": machine_info(), "load_start": load_start,
-              "load_end": load_average(), "rows": rows, "pooled": pooled}
+            print(
+                f"{maze:>18} seeds {p['seeds']}: run-1 length vs run-2 indirectness r = {r['r']:.2f} "
+                f"(95 % CI {r['ci95'][0]:.2f} to {r['ci95'][1]:.2f}, n = {r['n']})"
+            )
+    record = {
+        "command": command_line(),
+        "model": args.model,
+        "machine": machine_info(),
+        "load_start": load_start,
+        "load_end": load_average(),
+        "rows": rows,
+        "pooled": pooled,
+    }
     out = Path(args.out) if args.out else REPO / "benchmarks" / "results" / f"maze_suite_{args.model}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(f".tmp{os.getpid()}")

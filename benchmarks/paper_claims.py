@@ -35,8 +35,10 @@ def _cell(text: str) -> str:
 def claims_table(paper: dict[str, Any], default: dict[str, Any]) -> str:
     """One row per claim: the paper's words, then each model's measurement and verdict."""
     by_id = {row["id"]: row for row in default["claims"]}
-    lines = ["| # | the paper | the paper's model (`AgentConfig.paper()`) | verdict | the default model (`AgentConfig()`) | verdict |",
-             "| --- | --- | --- | --- | --- | --- |"]
+    lines = [
+        "| # | the paper | the paper's model (`AgentConfig.paper()`) | verdict | the default model (`AgentConfig()`) | verdict |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
     for row in paper["claims"]:
         other = by_id.get(row["id"])
         measured = _cell(other["measured"]) if other else "not measured"
@@ -58,14 +60,19 @@ def write_claims(args: ClaimsArgs) -> Path:
     lines = [
         "# The paper's claims, model by model",
         "",
-        "Each claim of the paper beside what `benchmarks/paper.py` measured with the model as the paper describes it "
-        "(`AgentConfig.paper()`: the rangefinder and the compass only) and with the default model (`AgentConfig()`: "
-        "wheel odometry integrated into a position estimate, and `W_pp` learning during the dry run). "
-        "The criteria behind each verdict, the figures and the details are in each model's own report.",
+        (
+            "Each claim of the paper beside what `benchmarks/paper.py` measured with the model as the paper describes it "
+            "(`AgentConfig.paper()`: the rangefinder and the compass only) and with the default model (`AgentConfig()`: "
+            "wheel odometry integrated into a position estimate, and `W_pp` learning during the dry run). "
+            "The criteria behind each verdict, the figures and the details are in each model's own report."
+        ),
         "",
-        *[f"- {model}: [{folder.relative_to(out.parent) if folder.is_relative_to(out.parent) else folder}/REPORT.md]"
-          f"({folder.relative_to(out.parent) if folder.is_relative_to(out.parent) else folder}/REPORT.md), made by "
-          f"`{records[model]['command']}`" for model, folder in folders.items()],
+        *[
+            f"- {model}: [{folder.relative_to(out.parent) if folder.is_relative_to(out.parent) else folder}/REPORT.md]"
+            f"({folder.relative_to(out.parent) if folder.is_relative_to(out.parent) else folder}/REPORT.md), made by "
+            f"`{records[model]['command']}`"
+            for model, folder in folders.items()
+        ],
         "",
         claims_table(records["paper"], records["default"]),
         "",

@@ -21,6 +21,7 @@ import hippo_env  # registers HippoMaze-v0
 from benchmarks.common import REPO, command_line, machine_info, parse_dataclass_args
 from hippo_agent import HippocampalAgent
 from hippo_agent.plots import grid_positions
+from hippo_env.physics import ROBOT_RADIUS
 
 
 @dataclass
@@ -35,47 +36,54 @@ class Args:
     """where the JSON goes (relative to the repository root unless absolute)"""
 
 
-args = parse_dataclass_args(Args, __doc__.splitlines()[0])
-rows = []
-for maze in args.mazes:
-    env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
-    env.reset(seed=args.seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, seed=args.seed)
-    agent.prepare(env)
-    spec = env.unwrapped.maze
-    grid = grid_positions(spec.size, spacing=args.spacing, margin=0.0)
-    grid = grid[[spec.clearance(p) >= 0.17 for p in grid]]
-    rates = agent.place_field_map(env, grid)
-    active = rates > 0
-    fired = active.any(axis=0)
-    arena = spec.size[0] * spec.size[1]
-    cell_area = args.spacing**2
-    field_share = active[:, fired].sum(axis=0) * cell_area / arena
-    half_share = (rates[:, fired] > 0.5 * rates[:, fired].max(axis=0)).sum(axis=0) * cell_area / arena
-    rows.append(
-        {
-            "maze": maze,
-            "grid_points": len(grid),
-            "coverage": float(active.any(axis=1).mean()),
-            "cells_with_a_field": int(fired.sum()),
-            "median_field_share_of_arena": float(np.median(field_share)),
-            "median_half_peak_field_share_of_arena": float(np.median(half_share)),
-            "max_field_share_of_arena": float(field_share.max()),
-            "median_cells_active_per_point": float(np.median(active.sum(axis=1))),
-        }
-    )
-    print(f"  {maze}: coverage {rows[-1]['coverage']:.1%}, {fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena")
-    env.close()
+def main(argv: list[str] | None = None) -> None:
+    args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    rows = []
+    for maze in args.mazes:
+        env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
+        env.reset(seed=args.seed)
+        agent = HippocampalAgent(env.observation_space, env.action_space, seed=args.seed)
+        agent.prepare(env)
+        spec = env.unwrapped.maze
+        grid = grid_positions(spec.size, spacing=args.spacing, margin=0.0)
+        grid = grid[spec.free_mask(grid, ROBOT_RADIUS)]
+        rates = agent.place_field_map(env, grid)
+        active = rates > 0
+        fired = active.any(axis=0)
+        arena = spec.size[0] * spec.size[1]
+        cell_area = args.spacing**2
+        field_share = active[:, fired].sum(axis=0) * cell_area / arena
+        half_share = (rates[:, fired] > 0.5 * rates[:, fired].max(axis=0)).sum(axis=0) * cell_area / arena
+        rows.append(
+            {
+                "maze": maze,
+                "grid_points": len(grid),
+                "coverage": float(active.any(axis=1).mean()),
+                "cells_with_a_field": int(fired.sum()),
+                "median_field_share_of_arena": float(np.median(field_share)),
+                "median_half_peak_field_share_of_arena": float(np.median(half_share)),
+                "max_field_share_of_arena": float(field_share.max()),
+                "median_cells_active_per_point": float(np.median(active.sum(axis=1))),
+            }
+        )
+        print(
+            f"  {maze}: coverage {rows[-1]['coverage']:.1%}, {fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena"
+        )
+        env.close()
 
-record = {
-    "command": command_line(),
-    "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-    "args": asdict(args),
-    "machine": machine_info(numpy=np.__version__),
-    "targets": {"coverage": ">= 0.90", "median_field_share_of_arena": "< 0.10"},
-    "rows": rows,
-}
-out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-out.parent.mkdir(parents=True, exist_ok=True)
-hippo_env.write_json(out, record)
-print(f"wrote {out}")
+    record = {
+        "command": command_line(),
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "args": asdict(args),
+        "machine": machine_info(numpy=np.__version__),
+        "targets": {"coverage": ">= 0.90", "median_field_share_of_arena": "< 0.10"},
+        "rows": rows,
+    }
+    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    hippo_env.write_json(out, record)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

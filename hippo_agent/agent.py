@@ -1,6 +1,6 @@
 """HippocampalAgent: the paper's model (head direction, BVC, place and reward cells) as a policy.
 
-The agent follows the protocol in :mod:`hippo_env.protocol` (``prepare`` / ``start_trial`` /
+The agent follows the protocol in :mod:`hippo_env.agent_protocol` (``prepare`` / ``start_trial`` /
 ``reset`` / ``act`` / ``observe``). It sees only the observation (the rangefinder scan and the
 compass heading), the reward, and the bump sensor ``info["collision"]``; never the position or
 the goal.
@@ -44,12 +44,15 @@ import json
 import math
 import os
 import zipfile
-from typing import Any
+from collections.abc import Callable
+from typing import Any, ClassVar
 
 import numpy as np
 
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
 from hippo_agent.config import AgentConfig
+from hippo_env.dmtp import rollout
+from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
 
@@ -58,11 +61,6 @@ PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate o
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
 FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
-
-
-def _wrap(angle: float) -> float:
-    """Wrap an angle to [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def _describe_space(space: Any) -> str:
@@ -116,50 +114,11 @@ class HippocampalAgent:
 
         self.rng = np.random.default_rng(seed)
         c = config
-        self.hd = HeadDirectionCells(c.n_hd)
-        self.bvc = BoundaryVectorCells(
-            n_rays=self.n_rays,
-            max_range=self.max_range,
-            n_directions=c.n_bvc_directions,
-            n_distances=c.n_bvc_distances,
-            max_distance=c.bvc_max_distance,
-            sigma_r=c.bvc_sigma_r,
-            distance_scaled=c.bvc_distance_scaled,
-            beta=c.bvc_beta,
-            sigma_theta=math.radians(c.bvc_sigma_theta_deg),
-            angular_cutoff=c.bvc_angular_cutoff,
-            peak_rate=c.bvc_peak_rate,
-            ignore_max_range=c.bvc_ignore_max_range,
-        )
-        self.place = PlaceCells(
-            c.n_place,
-            self.bvc.n,
-            c.n_hd,
-            self.rng,
-            k=c.k,
-            Gamma_pb=c.Gamma_pb,
-            Gamma_pp=c.Gamma_pp,
-            psi=c.psi,
-            p_pb=c.p_pb,
-            eta_pb=c.eta_pb,
-            alpha_pb=c.alpha_pb,
-            trace_rate=c.trace_rate,
-            hd_trace_rate=c.hd_trace_rate,
-            trace_floor=c.trace_floor,
-            eta_pp=c.eta_pp,
-        )
+        self.hd = HeadDirectionCells(n=c.n_hd)
+        self.bvc = BoundaryVectorCells(n_rays=self.n_rays, max_range=self.max_range, **c.bvc_kwargs())
+        self.place = PlaceCells(c.n_place, self.bvc.n, c.n_hd, self.rng, **c.place_kwargs())
         self.reward = RewardCells(c.n_place)
-        self.pi = PathIntegrator(
-            c.pi_particles,
-            self.rng,
-            motion_noise=c.pi_motion_noise,
-            min_motion_noise=c.pi_min_motion_noise,
-            vote_sigma=c.pi_vote_sigma,
-            anchor_radius=c.pi_anchor_radius,
-            anchor_weight=c.pi_anchor_weight,
-            redraw_fraction=c.pi_redraw_fraction,
-            lag=(1.0 - c.k) / c.k,
-        )
+        self.pi = PathIntegrator(c.pi_particles, self.rng, **c.path_integrator_kwargs())
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -183,18 +142,14 @@ class HippocampalAgent:
     def _check_observation_space(space: Any) -> tuple[int, float, bool]:
         import gymnasium as gym
 
-        allowed = (
-            "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), "
-            "optionally with odometry=Box(..., (2,))"
-        )
+        allowed = "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), optionally with odometry=Box(..., (2,))"
         keys = set(space.spaces) if isinstance(space, gym.spaces.Dict) else set()
         if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
         ranges, heading = space["ranges"], space["heading"]
         if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
             raise ValueError(
-                f"observation space 'ranges' {_describe_space(ranges)} is unsupported; "
-                "allowed: a 1-D Box with at least 8 rays"
+                f"observation space 'ranges' {_describe_space(ranges)} is unsupported; allowed: a 1-D Box with at least 8 rays"
             )
         if not isinstance(heading, gym.spaces.Box) or heading.shape != (2,):
             raise ValueError(
@@ -203,9 +158,7 @@ class HippocampalAgent:
             )
         max_range = float(np.max(ranges.high))
         if not (math.isfinite(max_range) and max_range > 0):
-            raise ValueError(
-                f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0"
-            )
+            raise ValueError(f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0")
         odometry = space.spaces.get("odometry")
         if odometry is not None and (not isinstance(odometry, gym.spaces.Box) or odometry.shape != (2,)):
             raise ValueError(
@@ -244,11 +197,12 @@ class HippocampalAgent:
         try:
             obs, info = env.reset(options={"goal": None})
             self.reset(obs, info)
-            for _ in range(self.config.dry_run_steps):
-                action = self.act(obs)
-                obs, reward, terminated, truncated, info = env.step(action)
-                self.observe(action, obs, reward, terminated, truncated, info)
-                if terminated or truncated:
+            remaining = self.config.dry_run_steps
+            while remaining > 0:
+                end = rollout(env, self, obs, max_steps=remaining)
+                remaining -= end.steps
+                obs = end.observation
+                if end.terminated or end.truncated:
                     obs, info = env.reset(options={"goal": None})
                     self.reset(obs, info)
         finally:
@@ -375,9 +329,7 @@ class HippocampalAgent:
     def learn_reward(self) -> bool:
         """Backward replay (Algorithm 1) from the current place rates into the current goal's
         reward cell. Returns ``False`` if no place cell was active (nothing to learn)."""
-        learnt = self.reward.learn(
-            self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r
-        )
+        learnt = self.reward.learn(self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r)
         if learnt:
             self.goal_rewarded = True
             self.episode_stats["replays"] += 1
@@ -413,7 +365,7 @@ class HippocampalAgent:
         c = self.config
         if self.segment_left <= 0:
             turn = self.rng.normal(0.0, math.radians(c.turn_sigma_deg))
-            self.intended_heading = _wrap(self.intended_heading + turn)
+            self.intended_heading = wrap_angle(self.intended_heading + turn)
             self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
         self.segment_left -= 1
         return self.intended_heading
@@ -421,10 +373,10 @@ class HippocampalAgent:
     def _to_action(self, heading: float) -> Any:
         """Turn an allocentric heading into an action of the action space."""
         if self.action_kind == "heading":
-            return np.array([_wrap(heading)], dtype=np.float32)
+            return np.array([wrap_angle(heading)], dtype=np.float32)
         x = (heading % (2.0 * math.pi)) / (2.0 * math.pi / self.n_actions)
         if self.config.discrete_rounding == "nearest":
-            k = int(math.floor(x + 0.5))
+            k = math.floor(x + 0.5)
         else:  # stochastic rounding: the expected direction is the intended one
             lo = math.floor(x)
             k = lo + int(self.rng.random() < x - lo)
@@ -436,9 +388,7 @@ class HippocampalAgent:
             ranges = np.asarray(observation["ranges"])
             heading_vec = np.asarray(observation["heading"], dtype=np.float64)
         except (KeyError, TypeError, IndexError) as exc:
-            raise ValueError(
-                "observation must be a dict with 'ranges' (n_rays,) and 'heading' (cos, sin)"
-            ) from exc
+            raise ValueError("observation must be a dict with 'ranges' (n_rays,) and 'heading' (cos, sin)") from exc
         if heading_vec.shape != (2,):
             raise ValueError(f"observation 'heading' has shape {heading_vec.shape}; expected (2,)")
         heading = math.atan2(float(heading_vec[1]), float(heading_vec[0]))
@@ -496,9 +446,7 @@ class HippocampalAgent:
             out[n] = self.place_rates_at(obs, None if offset is None else pos - offset)
         return out
 
-    def reward_map(
-        self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0
-    ) -> np.ndarray:
+    def reward_map(self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0) -> np.ndarray:
         """Reward cell ``goal``'s value (eq. 9) at each position, NaN where the env rejects it."""
         rates = self.place_field_map(env, positions, heading)
         if self.reward.n == 0:
@@ -510,22 +458,54 @@ class HippocampalAgent:
         return np.where(np.isnan(total), np.nan, val)
 
     # ================================================================== save / load
-    _ARRAY_HOME = {
-        "W_pb": ("place", "W_pb"), "W_rp": ("reward", "W_rp"),
-        "W_eff": ("reward", "W_eff"), "s": ("place", "s"), "v": ("place", "v"),
-        "trace": ("place", "trace"), "hd_trace": ("place", "hd_trace"), "hd_rates": ("hd", "rates"),
-        "bvc_rates": ("bvc", "rates"), "last_values": ("agent", "last_values"),
-        "s_sense": ("place", "s_sense"), "v_sense": ("place", "v_sense"), "centres": ("place", "centres"),
-        "centre_mass": ("place", "centre_mass"), "spread": ("place", "spread"), "spread_mass": ("place", "spread_mass"),
-        "pi_particles": ("pi", "particles"), "pi_weights": ("pi", "weights"),
-        "pi_estimate": ("pi", "estimate"), "pi_last_step": ("pi", "last_step"),
+    _ARRAY_HOME: ClassVar[dict[str, tuple[str, str]]] = {
+        "W_pb": ("place", "W_pb"),
+        "W_rp": ("reward", "W_rp"),
+        "W_eff": ("reward", "W_eff"),
+        "s": ("place", "s"),
+        "v": ("place", "v"),
+        "trace": ("place", "trace"),
+        "hd_trace": ("place", "hd_trace"),
+        "hd_rates": ("hd", "rates"),
+        "bvc_rates": ("bvc", "rates"),
+        "last_values": ("agent", "last_values"),
+        "s_sense": ("place", "s_sense"),
+        "v_sense": ("place", "v_sense"),
+        "centres": ("place", "centres"),
+        "centre_mass": ("place", "centre_mass"),
+        "spread": ("place", "spread"),
+        "spread_mass": ("place", "spread_mass"),
+        "pi_particles": ("pi", "particles"),
+        "pi_weights": ("pi", "weights"),
+        "pi_estimate": ("pi", "estimate"),
+        "pi_last_step": ("pi", "last_step"),
     }
     _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+    # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
+    _STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+        ("phase", str),
+        ("trial", int),
+        ("goal_rewarded", bool),
+        ("started", bool),
+        ("intended_heading", float),
+        ("segment_left", int),
+        ("escape_left", int),
+        ("heading", float),
+        ("last_decision", str),
+        ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
+        ("total_steps", int),
+    )
+    # The path integrator's, under "state" -> "pi".
+    _PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+        ("frame_started", bool),
+        ("anchored", bool),
+        ("fresh", bool),
+        ("confidence", float),
+    )
 
     def _array_slots(self) -> list[tuple[str, Any, str]]:
         """(name in the file, object holding it, attribute) for every saved array."""
-        return [(name, self if owner == "agent" else getattr(self, owner), attr)
-                for name, (owner, attr) in self._ARRAY_HOME.items()]
+        return [(name, self if owner == "agent" else getattr(self, owner), attr) for name, (owner, attr) in self._ARRAY_HOME.items()]
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
@@ -543,19 +523,8 @@ class HippocampalAgent:
             "rng_state": self.rng.bit_generator.state,
             "rng_kind": type(self.rng.bit_generator).__name__,
             "state": {
-                "phase": self.phase,
-                "trial": self.trial,
-                "goal_rewarded": self.goal_rewarded,
-                "started": self.started,
-                "intended_heading": self.intended_heading,
-                "segment_left": self.segment_left,
-                "escape_left": self.escape_left,
-                "heading": self.heading,
-                "last_decision": self.last_decision,
-                "episode_stats": self.episode_stats,
-                "total_steps": self.total_steps,
-                "pi": {"frame_started": self.pi.frame_started, "anchored": self.pi.anchored, "fresh": self.pi.fresh,
-                       "confidence": self.pi.confidence},
+                **{name: getattr(self, name) for name, _ in self._STATE},
+                "pi": {name: getattr(self.pi, name) for name, _ in self._PI_STATE},
             },
         }
         arrays = {name: getattr(target, attr) for name, target, attr in self._array_slots()}
@@ -587,11 +556,11 @@ class HippocampalAgent:
         except (OSError, EOFError, zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
             raise ValueError(f"{what}: {type(exc).__name__}: {exc}") from exc
         if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
-            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, "
-                             f"expected {FORMAT_TAG!r}")
+            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, expected {FORMAT_TAG!r}")
         if meta.get("version") != FORMAT_VERSION:
-            raise ValueError(f"{what}: format version {meta.get('version')!r} is unsupported; "
-                             f"this hippo_agent reads version {FORMAT_VERSION}")
+            raise ValueError(
+                f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION}"
+            )
         try:
             config = AgentConfig.from_dict(meta["config"])
             n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
@@ -622,20 +591,10 @@ class HippocampalAgent:
             st = meta["state"]
             if st["phase"] not in ("dry", "trial"):
                 raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
-            agent.phase = str(st["phase"])
-            agent.trial = int(st["trial"])
-            agent.goal_rewarded = bool(st["goal_rewarded"])
-            agent.started = bool(st["started"])
-            agent.intended_heading = float(st["intended_heading"])
-            agent.segment_left = int(st["segment_left"])
-            agent.escape_left = int(st["escape_left"])
-            agent.heading = float(st["heading"])
-            agent.last_decision = str(st["last_decision"])
-            agent.episode_stats = {str(k): int(v) for k, v in st["episode_stats"].items()}
-            agent.total_steps = int(st["total_steps"])
-            pi = st["pi"]
-            agent.pi.frame_started, agent.pi.anchored = bool(pi["frame_started"]), bool(pi["anchored"])
-            agent.pi.fresh, agent.pi.confidence = bool(pi["fresh"]), float(pi["confidence"])
+            for name, read in cls._STATE:
+                setattr(agent, name, read(st[name]))
+            for name, read in cls._PI_STATE:
+                setattr(agent.pi, name, read(st["pi"][name]))
         except ValueError as exc:
             raise ValueError(f"{what}: {exc}") from exc
         except (KeyError, TypeError, AttributeError) as exc:

@@ -1,17 +1,15 @@
 """The hippocampal agent's configuration: one frozen, validated, documented dataclass.
 
 Every field says its value, where the value comes from and, where the paper is ambiguous,
-which reading was chosen and why. Sources:
+which reading was chosen and why. Sources (figures and measurements in ``docs/parameters.md``):
 
-- **paper**: ``shared/paper/paper.tex`` (equation numbers as there).
-- **model-figures**: ``shared/reference/model-figures.md`` (figures read from the authors' lab
-  implementation).
-- **feasibility**: ``shared/reference/feasibility.md`` (a prototype's measurements; its best row is
-  our starting point: trace rate 0.2, 20 replay iterations, lambda 0.05, tau_r 2, k 0.5, 1000 cells).
-- **tuned**: measured in this project on the open arena with ``hippo_env.protocol.run_dmtp``
-  (20 trials x 4 runs per seed, a fresh agent per trial), settings compared on the same seeds.
-  Medians quoted are of indirectness for runs 2 / 3 / 4 (or run 2 alone). Every comparison except
-  ``trace_rate``'s own was made at the earlier default ``trace_rate = 0.2``.
+- **paper**: A. Alabi, D. Vanderelst and A. Minai, *Rapid Learning of Spatial Representations for
+  Goal-Directed Navigation Based on a Novel Model of Hippocampal Place Fields* (equation numbers
+  as there).
+- **model-figures**: the authors' public robot controller (a Webots implementation of the model).
+- **feasibility**: a prototype made before this project, which tried those figures and others.
+- **tuned**: compared in this project with ``hippo_env.dmtp.run_dmtp`` on paired seeds (the same
+  goals and starts for each setting); the comparisons are recorded in ``docs/parameters.md``.
 
 All rates are per place-cell update, and the agent does one place-cell update per environment
 step (about 0.15 m of travel, close to the reference's 0.14 m per update).
@@ -23,6 +21,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Literal
+
+from hippo_env.files import unknown_fields
 
 __all__ = ["AgentConfig"]
 
@@ -80,12 +80,11 @@ class AgentConfig:
 
     # ---------------------------------------------------------------- place cells (eqs. 3-5)
     n_place: int = 1000
-    """Number of place cells N (model-figures: 200 to 1000, 1000 most often; feasibility: 250 leave
-    holes between fields, 1000 works)."""
+    """Number of place cells N (model-figures: 200 to 1000, 1000 most often; feasibility: fewer
+    leave holes between the fields)."""
     k: float = 0.5
     """Rate constant of eq. 3, ``dt / tau_p`` per update (model-figures: 0.1, later 0.5;
-    feasibility: 0.1 left 16 % of steps with no active cell, 0.5 left 0.03 %; tuned: 1.0 measured
-    a worse run 2, median 3.0 against 1.9 over 60 paired trials)."""
+    feasibility: 0.1 leaves many steps with no active cell; tuned: 1.0 did worse)."""
     Gamma_pb: float = 0.3
     """Feed-forward inhibition gain Gamma^pb of eq. 3 (model-figures: 0.3)."""
     Gamma_pp: float = 0.5
@@ -113,9 +112,7 @@ class AgentConfig:
     """Rate ``dt / tau_h`` at which the place-cell traces Upsilon^p move toward v per update (eq. 6)
     (model-figures: 0.032; feasibility: 0.032 floods replay over the whole map, about 0.2, a window
     of about one place field, gives a graded reward map). Tuned: 0.3 (a window of about 3 updates,
-    0.5 m) against 0.2 on 100 paired trials (seeds 0-4): runs 2-4 better in 161 pairs, worse in
-    122 (sign test p ~ 0.02), medians 1.43 / 0.56 / 0.69 against 1.54 / 0.79 / 0.70 for runs 2-4.
-    A shorter window gives fewer long, weak links, which replay's ``tanh(v + W v)`` otherwise
+    0.5 m) did better than 0.2. A shorter window gives fewer long, weak links, which replay's ``tanh(v + W v)`` otherwise
     amplifies (a drive d settles near (3d)^(1/3)) into a flatter reward map."""
     hd_trace_rate: float = 1.0
     """Rate at which the head-direction trace Upsilon^h moves toward v^h (eq. 6). 1.0 = the
@@ -123,8 +120,8 @@ class AgentConfig:
     trace); a slower trace would smear the direction across the 45-deg turns of exploration."""
     trace_floor: float = 1e-3
     """Trace values below this are set to exactly 0, so the set of cells a ``W_pp`` update touches
-    stays small (about 20 updates after a cell falls silent at trace rate 0.3); an implementation
-    choice for the sparse update (tuned: 0.02, a shorter tail, measured slightly worse at trace rate 0.2)."""
+    stays small (a few dozen updates after a cell falls silent); an implementation choice for the
+    sparse update (tuned: a higher floor, a shorter tail, did slightly worse)."""
     eta_pp: float = 1.0
     """Learning rate ``dt / tau_w^pp`` of eq. 7 (model-figures: 1, ``W[k] += h_k (...)``)."""
 
@@ -133,12 +130,8 @@ class AgentConfig:
     """n_rs, iterations of backward replay (model-figures: 10, later 20; feasibility: 20)."""
     tau_r: float = 1.0
     """Replay decay tau_r in iterations, ``exp(-t_r / tau_r)`` (model-figures: 6; feasibility: 2
-    gives a map graded around the goal instead of a flat one). Tuned at trace rate 0.3 on 100
-    paired trials (seeds 0-4): 1.0 against 2.0, runs 2-4 better in 165 pairs, worse in 115, mean
-    log(1 + indirectness) lower by 0.19 +- 0.06; medians 1.01 / 0.49 / 0.49 against 1.43 / 0.56 /
-    0.69. 1.5 fell between and 0.7 was no better. On held-out seeds 5-6 (40 trials) the tuned
-    defaults (trace rate 0.3, tau_r 1, bump escape 3) beat the feasibility row's (0.2, 2, 0) in 68
-    pairs and lost 47, but with a worse run-2 median (1.98 against 1.52). Replay's tanh saturates every reached cell, so after iteration
+    gives a map graded around the goal instead of a flat one). Tuned: 1.0 did better than 2.0,
+    1.5 fell between and 0.7 was no better. Replay's tanh saturates every reached cell, so after iteration
     ``t_i`` a cell gains about ``exp(-t_i / tau_r)`` per iteration: a short tau_r keeps the value
     steep around the goal, where the near misses happen."""
 
@@ -146,8 +139,7 @@ class AgentConfig:
     lambda_: float = 0.05
     """Depression lambda of eq. 11, applied to the effective reward weights of the active place
     cells at each exploitation decision, reset each episode (model-figures: 0.2; feasibility: 0
-    loops, 0.2 makes a self-avoiding search, 0.05 best; tuned: 0.02 and 0.1 both measured worse,
-    run-2 median 2.0 and 3.6 against 1.9 over 40 paired trials)."""
+    loops, 0.2 makes a self-avoiding search, 0.05 best; tuned: 0.02 and 0.1 both did worse)."""
     xi: float = 1e-3
     """Explore/exploit threshold xi: exploit only if the best preplayed direction's value (eq. 9)
     is >= xi (paper: max_a v^r|a >= xi; model-figures: 1e-3)."""
@@ -167,24 +159,22 @@ class AgentConfig:
     """After a bump while exploiting, this many exploration steps in the new random direction
     before preplay resumes (0 = none). The paper does not say what an exploiting robot does at a
     wall; without an escape, preplay (whose broad cosine-tuned slices also predict sliding along
-    a wall) can keep choosing a blocked heading, and in measurements some runs bumped 900 times
-    and timed out. A bump is the same reflex as in exploration (model-figures: a random turn and
-    a new segment), kept short so exploitation resumes quickly (tuned: 3 vs 0 raised runs 2-4
-    success from 98.9 % to 100 % and cut the run-2 median from 1.9 to 1.4 over 60 paired trials;
-    6 measured the same as 3)."""
+    a wall) can keep choosing a blocked heading until the run times out. A bump is the same reflex
+    as in exploration (model-figures: a random turn and a new segment), kept short so exploitation
+    resumes quickly (tuned: 3 did better than 0, and 6 the same as 3)."""
     discrete_rounding: Literal["stochastic", "nearest"] = "stochastic"
     """How a continuous intended heading becomes one of the 8 discrete actions. ``"stochastic"``:
     the neighbouring action toward the heading is taken with probability equal to the fraction of
     the 45 deg gap, so the mean travel direction equals the intended one and exploration stays an
     isotropic random walk (not one confined to 8 lattice directions); ``"nearest"``: round to the
-    closest. Used for exploration and exploitation alike (tuned: ``"nearest"`` measured far worse,
-    run-2 median 5.3 against 1.9 over 40 paired trials: exploitation then moves on a lattice of
-    8 headings and overshoots)."""
+    closest. Used for exploration and exploitation alike (tuned: ``"nearest"`` did far worse:
+    exploitation then moves on a lattice of 8 headings and overshoots)."""
 
     # ---------------------------------------------------------------- schedule
     dry_run_steps: int = 5000
     """Goal-free steps in ``prepare`` with only BVC -> place learning on (paper: a dry run;
-    model-figures: about 25,000; feasibility: 5,000 works almost as well)."""
+    model-figures: about 25,000 updates; feasibility: 5,000 works almost as well; the README's
+    pre-exploration table measures shorter ones)."""
     learn_pb_in_trials: bool = True
     """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
     exploration; model-figures: learning stays on in runs 2-4)."""
@@ -232,23 +222,20 @@ class AgentConfig:
     pi_vote_by_spread: bool = True
     """Each cell learns how far from its centre the boundary code alone fires it (its spread), and
     votes for positions with a normalised Gaussian that wide: cells that also fire at distant
-    look-alike places vote broadly and weakly. Why: without it, a run's estimate was anchored at
-    a look-alike place in 10 % of maze4's runs (``benchmarks.diagnose --maze maze4 --seed 2``;
-    3 % with it). Tuned on seeds 2 and 3 (20 days each in open, maze1, maze2 and maze4): run 2
-    better in 95 paired days, worse in 58."""
+    look-alike places vote broadly and weakly. Why: without it, a run's estimate was more often
+    anchored at a look-alike place (``python -m benchmarks.diagnose --maze maze4``, its misplaced
+    runs); tuned on seeds 2 and 3 in open, maze1, maze2 and maze4."""
 
     # ------------------------------------------------------------------------------------------
     @classmethod
     def paper(cls, **changes: Any) -> AgentConfig:
         """The model as the paper describes it: no path integration (the compass and the
-        rangefinder only), a 5,000-step dry run; the rest as the defaults."""
+        rangefinder only), no place-place learning in the dry run; the rest as the defaults."""
         return cls(**{"path_integration": False, "learn_pp_in_dry_run": False, "dry_run_steps": 5000, **changes})
 
     def __post_init__(self) -> None:
         def bad(name: str, allowed: str) -> ValueError:
-            return ValueError(
-                f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}"
-            )
+            return ValueError(f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}")
 
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
@@ -284,8 +271,7 @@ class AgentConfig:
 
         if self.n_hd < 4 or self.n_hd % 2:
             raise bad("n_hd", "an even integer >= 4")
-        for n in ("n_bvc_directions", "n_bvc_distances", "n_place", "replay_iterations",
-                  "segment_min"):
+        for n in ("n_bvc_directions", "n_bvc_distances", "n_place", "replay_iterations", "segment_min"):
             if getattr(self, n) < 1:
                 raise bad(n, "an integer >= 1")
         if self.n_bvc_distances < 2:
@@ -297,8 +283,9 @@ class AgentConfig:
             raise bad("segment_max", f"an integer >= segment_min ({self.segment_min})")
         if self.bvc_max_distance is not None:
             positive("bvc_max_distance")
-        positive("bvc_sigma_r", "bvc_beta", "bvc_sigma_theta_deg", "bvc_angular_cutoff",
-                 "bvc_peak_rate", "psi", "alpha_pb", "tau_r", "eta_pp")
+        positive(
+            "bvc_sigma_r", "bvc_beta", "bvc_sigma_theta_deg", "bvc_angular_cutoff", "bvc_peak_rate", "psi", "alpha_pb", "tau_r", "eta_pp"
+        )
         if self.bvc_sigma_theta_deg > 45:
             raise bad("bvc_sigma_theta_deg", "a value in (0, 45] degrees")
         unit_interval("k", "trace_rate", "hd_trace_rate")
@@ -309,8 +296,9 @@ class AgentConfig:
             raise bad("lambda_", "a value in [0, 1]")
         if not 0 <= self.trace_floor < 1:
             raise bad("trace_floor", "a value in [0, 1)")
-        non_negative("Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold",
-                     "pi_motion_noise", "pi_min_motion_noise")
+        non_negative(
+            "Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold", "pi_motion_noise", "pi_min_motion_noise"
+        )
         positive("pi_sigma", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")
@@ -328,13 +316,44 @@ class AgentConfig:
         """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
         if not isinstance(data, dict):
             raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
-        known = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - known)
+        unknown = unknown_fields(cls, data)
         if unknown:
-            raise ValueError(
-                f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(known)}"
-            )
+            raise ValueError(f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}")
         return cls(**data)
+
+    # ------------------------------------------------------------------ the cells' parameters
+    # The cell classes take every parameter as a required keyword: their values live here only.
+    def bvc_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.BoundaryVectorCells` (besides the sensor's)."""
+        return {
+            "n_directions": self.n_bvc_directions,
+            "n_distances": self.n_bvc_distances,
+            "max_distance": self.bvc_max_distance,
+            "sigma_r": self.bvc_sigma_r,
+            "distance_scaled": self.bvc_distance_scaled,
+            "beta": self.bvc_beta,
+            "sigma_theta": math.radians(self.bvc_sigma_theta_deg),
+            "angular_cutoff": self.bvc_angular_cutoff,
+            "peak_rate": self.bvc_peak_rate,
+            "ignore_max_range": self.bvc_ignore_max_range,
+        }
+
+    def place_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.PlaceCells` (besides the sizes and the generator)."""
+        names = ("k", "Gamma_pb", "Gamma_pp", "psi", "p_pb", "eta_pb", "alpha_pb", "trace_rate", "hd_trace_rate", "trace_floor", "eta_pp")
+        return {name: getattr(self, name) for name in names}
+
+    def path_integrator_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.cells.PathIntegrator` (besides the particle count and the generator)."""
+        return {
+            "motion_noise": self.pi_motion_noise,
+            "min_motion_noise": self.pi_min_motion_noise,
+            "vote_sigma": self.pi_vote_sigma,
+            "anchor_radius": self.pi_anchor_radius,
+            "anchor_weight": self.pi_anchor_weight,
+            "redraw_fraction": self.pi_redraw_fraction,
+            "lag": (1.0 - self.k) / self.k,  # eq. 3's Euler update lags the input by this many steps
+        }
 
     def replace(self, **changes: Any) -> AgentConfig:
         """A copy with some fields changed (validated like the original)."""

@@ -15,11 +15,12 @@ never sees them)::
 from __future__ import annotations
 
 from collections.abc import Sequence
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
-__all__ = ["draw_maze", "grid_positions", "plot_place_field", "plot_reward_map", "plot_trajectories"]
+__all__ = ["grid_positions", "plot_place_field", "plot_reward_map", "plot_trajectories"]
 
 
 def _axes(ax: Any = None, figsize: tuple[float, float] = (5.0, 5.0)) -> tuple[Any, Any]:
@@ -47,22 +48,14 @@ def grid_positions(size: tuple[float, float], spacing: float = 0.2, margin: floa
     return np.column_stack([gx.ravel(), gy.ravel()])
 
 
-def draw_maze(ax: Any, maze: Any = None, size: tuple[float, float] | None = None) -> None:
-    """Draw the arena floor (grey) and obstacles (black) of a ``MazeSpec``-like object (``size``,
-    ``obstacles``), or just a floor of ``size``."""
-    from matplotlib.patches import Polygon, Rectangle
+def _draw_arena(ax: Any, maze: Any = None, size: tuple[float, float] | None = None) -> None:
+    """The arena under a map: ``maze`` (a ``MazeSpec``-like object with ``size`` and ``obstacles``)
+    or a bare floor of ``size``, drawn by :func:`hippo_env.render.draw_maze` in its plot style."""
+    from hippo_env.render import PLOT_STYLE, draw_maze
 
-    if maze is not None:
-        size = tuple(maze.size)
-    if size is None:
+    if maze is None and size is None:
         return
-    w, h = size
-    ax.add_patch(Rectangle((-w / 2, -h / 2), w, h, facecolor="0.85", edgecolor="black", lw=2, zorder=0))
-    for poly in getattr(maze, "obstacles", ()) if maze is not None else ():
-        ax.add_patch(Polygon(np.asarray(poly), closed=True, facecolor="black", zorder=3))
-    ax.set_xlim(-w / 2, w / 2)
-    ax.set_ylim(-h / 2, h / 2)
-    ax.set_aspect("equal")
+    draw_maze(maze if maze is not None else SimpleNamespace(size=tuple(size), obstacles=()), ax, style=PLOT_STYLE)
 
 
 def _draw_goal(ax: Any, goal: Any, goal_radius: float) -> None:
@@ -76,8 +69,18 @@ def _draw_goal(ax: Any, goal: Any, goal_radius: float) -> None:
 
 
 def _hexmap(
-    positions: Any, values: Any, ax: Any, gridsize: int, maze: Any, size: Any, goal: Any, goal_radius: float,
-    cmap: str, label: str, title: str | None, colorbar: bool,
+    positions: Any,
+    values: Any,
+    ax: Any,
+    gridsize: int,
+    maze: Any,
+    size: Any,
+    goal: Any,
+    goal_radius: float,
+    cmap: str,
+    label: str,
+    title: str | None,
+    colorbar: bool,
 ) -> tuple[Any, Any]:
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     values = np.asarray(values, dtype=float).ravel()
@@ -85,14 +88,21 @@ def _hexmap(
         raise ValueError(f"{len(positions)} positions but {len(values)} values; give one value per position")
     keep = np.isfinite(values) & np.all(np.isfinite(positions), axis=1)
     fig, ax = _axes(ax)
-    draw_maze(ax, maze, size)
+    _draw_arena(ax, maze, size)
     extent = None
     if maze is not None or size is not None:
         w, h = tuple(maze.size) if maze is not None else size
         extent = (-w / 2, w / 2, -h / 2, h / 2)
     hb = ax.hexbin(
-        positions[keep, 0], positions[keep, 1], C=values[keep], reduce_C_function=np.mean,
-        gridsize=gridsize, mincnt=1, cmap=cmap, extent=extent, zorder=1,
+        positions[keep, 0],
+        positions[keep, 1],
+        C=values[keep],
+        reduce_C_function=np.mean,
+        gridsize=gridsize,
+        mincnt=1,
+        cmap=cmap,
+        extent=extent,
+        zorder=1,
     )  # mincnt=1: unvisited bins stay empty
     _draw_goal(ax, goal, goal_radius)
     ax.set_aspect("equal")
@@ -167,13 +177,13 @@ def plot_trajectories(
     Args:
         paths: one array of positions per run.
         ax: axes to draw into (a new figure if ``None``).
-        maze, size: the arena to draw underneath (see :func:`draw_maze`).
+        maze, size: the arena to draw underneath (see :func:`hippo_env.render.draw_maze`).
         goal, goal_radius: a goal disk to outline in red.
         labels: one legend label per path.
         title: axes title.
     """
     fig, ax = _axes(ax)
-    draw_maze(ax, maze, size)
+    _draw_arena(ax, maze, size)
     if labels is not None and len(labels) != len(paths):
         raise ValueError(f"{len(paths)} paths but {len(labels)} labels; give one label per path")
     for n, path in enumerate(paths):

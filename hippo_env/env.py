@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import heapq
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
@@ -15,6 +14,9 @@ from hippo_env import physics
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
+
+if TYPE_CHECKING:
+    from hippo_env.render import Frame
 
 ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
@@ -112,7 +114,7 @@ class HippoMazeEnv(gym.Env):
       (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged).
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
 
     def __init__(
         self,
@@ -268,7 +270,7 @@ class HippoMazeEnv(gym.Env):
             from hippo_env.render import Renderer
 
             self._renderer = Renderer(self.maze, human=self.render_mode == "human")
-        return self._renderer.draw(self)
+        return self._renderer.draw(self._frame())
 
     def close(self) -> None:
         if self._renderer is not None:
@@ -290,6 +292,20 @@ class HippoMazeEnv(gym.Env):
         return self._path.array()
 
     # ------------------------------------------------------------------ internals
+    def _frame(self) -> Frame:
+        """The snapshot the renderer draws."""
+        from hippo_env.render import Frame
+
+        return Frame(
+            position=self.world.position,
+            heading=self.world.heading,
+            path=self.path,
+            goal=None if self.goal is None else self.goal.copy(),
+            goal_radius=self.goal_radius,
+            ranges=self._ranges.copy() if self.render_rays else None,
+            fps=self.metadata["render_fps"],
+        )
+
     def _observe(self, moved: tuple[float, float]) -> dict[str, np.ndarray]:
         """The observation at the robot's pose; ``moved`` is its allocentric displacement this step."""
         heading = self.world.heading
@@ -335,10 +351,19 @@ class HippoMazeEnv(gym.Env):
             values = np.asarray(action, dtype=np.float64).reshape(space.shape)
         except (TypeError, ValueError):
             values = None
-        ok = values is not None and bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
+        ok = (
+            values is not None
+            and bool(np.all(np.isfinite(values)))
+            and bool(np.all(values >= space.low - 1e-6))
+            and bool(np.all(values <= space.high + 1e-6))
+        )
         if not ok:
-            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(self.action_type, "[left, right] wheel speeds")
-            raise ValueError(f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]")
+            meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(
+                self.action_type, "[left, right] wheel speeds"
+            )
+            raise ValueError(
+                f"action {action!r} is outside the action space {space}; give {meaning} with values in [{space.low[0]:.4g}, {space.high[0]:.4g}]"
+            )
         return values
 
     def _check_goal(self, goal: Any, where: str) -> np.ndarray:
@@ -399,7 +424,7 @@ class HippoMazeEnv(gym.Env):
     def _distance_to_goal(self, position: np.ndarray) -> float:
         """Geodesic distance to the goal, read off a grid distance field built once per goal."""
         if self._distance_field is None:
-            self._distance_field = _distance_field(self.maze, self.goal)
+            self._distance_field = self.maze.distance_field(self.goal, physics.ROBOT_RADIUS, DENSE_GRID)
         field, origin = self._distance_field
         col, row = ((position - origin) / DENSE_GRID).astype(int)
         row = min(max(row, 0), field.shape[0] - 1)
@@ -440,34 +465,3 @@ def _as_xy(value: Any, where: str) -> np.ndarray:
     if point is None or point.shape != (2,) or not np.all(np.isfinite(point)):
         raise ValueError(f"{where} must be a point [x, y] of two finite numbers in metres, got {value!r}")
     return point
-
-
-def _distance_field(maze: MazeSpec, goal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Shortest distances to ``goal`` over a grid of the free space (8-connected Dijkstra).
-
-    Cells a robot cannot occupy get the largest finite distance, so pushing against a wall never pays.
-    """
-    hw, hh = maze.half_extent
-    origin = np.array([-hw, -hh])
-    cols, rows = int(math.ceil(2 * hw / DENSE_GRID)), int(math.ceil(2 * hh / DENSE_GRID))
-    xs = origin[0] + (np.arange(cols) + 0.5) * DENSE_GRID
-    ys = origin[1] + (np.arange(rows) + 0.5) * DENSE_GRID
-    gx, gy = np.meshgrid(xs, ys)
-    free = np.array([maze.clearance((x, y)) >= physics.ROBOT_RADIUS for x, y in zip(gx.ravel(), gy.ravel())]).reshape(rows, cols)
-    field = np.full((rows, cols), np.inf)
-    g_col, g_row = ((goal - origin) / DENSE_GRID).astype(int)
-    field[g_row, g_col] = 0.0
-    queue = [(0.0, g_row, g_col)]
-    moves = [(dr, dc, DENSE_GRID * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
-    while queue:
-        dist, r, c = heapq.heappop(queue)
-        if dist > field[r, c]:
-            continue
-        for dr, dc, cost in moves:
-            rr, cc = r + dr, c + dc
-            if 0 <= rr < rows and 0 <= cc < cols and free[rr, cc] and dist + cost < field[rr, cc]:
-                field[rr, cc] = dist + cost
-                heapq.heappush(queue, (dist + cost, rr, cc))
-    finite = field[np.isfinite(field)]
-    field[~np.isfinite(field)] = finite.max() if finite.size else 0.0
-    return field, origin

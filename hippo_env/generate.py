@@ -97,7 +97,7 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
             or an empty name.
     """
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")  # noqa: TRY004 (the project raises ValueError for bad input)
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     if seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed}")
     if kind not in KINDS:

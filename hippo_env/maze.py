@@ -9,6 +9,7 @@ radius (a visibility graph over points placed around every convex corner, then D
 
 from __future__ import annotations
 
+import heapq
 import json
 import math
 from dataclasses import dataclass, field
@@ -19,7 +20,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from hippo_env.sensors import _clearance
+from hippo_env.geometry import segments_clearance
 
 BUILTIN_MAZES = ("open", "maze1", "maze2", "maze3", "maze4")
 
@@ -66,7 +67,9 @@ class MazeSpec:
         if size[0] <= 0 or size[1] <= 0:
             raise ValueError(f"maze {self.name!r}: 'size' must be two positive numbers [width, height], got {list(size)}")
         if max(size) > MAX_SIZE:
-            raise ValueError(f"maze {self.name!r}: 'size' {list(size)} is too large; width and height may be at most {MAX_SIZE:g} m (hippo_env.maze.MAX_SIZE)")
+            raise ValueError(
+                f"maze {self.name!r}: 'size' {list(size)} is too large; width and height may be at most {MAX_SIZE:g} m (hippo_env.maze.MAX_SIZE)"
+            )
         object.__setattr__(self, "size", size)
         polygons = []
         if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
@@ -83,8 +86,7 @@ class MazeSpec:
             for k, (x, y) in enumerate(vertices):
                 if abs(x) > half_w or abs(y) > half_h:
                     raise ValueError(
-                        f"{where}, vertex {k} ({x}, {y}) lies outside the arena; "
-                        f"vertices must satisfy |x| <= {half_w} and |y| <= {half_h}"
+                        f"{where}, vertex {k} ({x}, {y}) lies outside the arena; vertices must satisfy |x| <= {half_w} and |y| <= {half_h}"
                     )
             polygons.append(vertices)
         object.__setattr__(self, "obstacles", tuple(polygons))
@@ -113,7 +115,9 @@ class MazeSpec:
         if isinstance(maze, MazeSpec):
             return maze
         if not isinstance(maze, (str, Path)):
-            raise ValueError(f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}")
+            raise ValueError(
+                f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}"
+            )
         if isinstance(maze, str) and maze in BUILTIN_MAZES:
             text = resources.files("hippo_env.mazes").joinpath(f"{maze}.json").read_text()
             return cls.from_dict(json.loads(text), source=f"built-in maze {maze!r}")
@@ -123,7 +127,9 @@ class MazeSpec:
         try:
             text = path.read_text()
         except OSError as err:
-            raise ValueError(f"maze file {str(path)!r} cannot be read ({err.strerror or err}); give a readable JSON file or one of: {_builtin_names()}") from err
+            raise ValueError(
+                f"maze file {str(path)!r} cannot be read ({err.strerror or err}); give a readable JSON file or one of: {_builtin_names()}"
+            ) from err
         try:
             data = json.loads(text)
         except json.JSONDecodeError as err:
@@ -131,7 +137,11 @@ class MazeSpec:
         return cls.from_dict(data, source=f"maze file {str(path)!r}")
 
     def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {"name": self.name, "size": list(self.size), "obstacles": [[list(p) for p in poly] for poly in self.obstacles]}
+        data: dict[str, Any] = {
+            "name": self.name,
+            "size": list(self.size),
+            "obstacles": [[list(p) for p in poly] for poly in self.obstacles],
+        }
         if self.goal is not None:
             data["goal"] = list(self.goal)
         return data
@@ -161,18 +171,34 @@ class MazeSpec:
 
     def clearance(self, point: tuple[float, float] | np.ndarray) -> float:
         """Distance from a point to the nearest wall; negative inside an obstacle or outside the arena."""
-        x, y = float(point[0]), float(point[1])
-        distance = float(_clearance(x, y, self._segments))
+        return float(self.clearances([point])[0])
+
+    def clearances(self, points: Any) -> np.ndarray:
+        """:meth:`clearance` of each of ``points`` (``(k, 2)``), the inside tests vectorised over the points."""
+        xy = np.asarray(points, float).reshape(-1, 2)
+        distance = np.array([segments_clearance(float(x), float(y), self._segments) for x, y in xy], dtype=np.float64)
         hw, hh = self.half_extent
-        if abs(x) > hw or abs(y) > hh or self.inside_obstacle((x, y)):
-            return -distance
-        return distance
+        outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
+        for poly in self.obstacles:
+            outside |= _points_in_polygon(xy, poly)
+        return np.where(outside, -distance, distance)
 
     def is_free(self, point: tuple[float, float] | np.ndarray, radius: float) -> bool:
         """Whether a disc of ``radius`` centred at ``point`` fits without touching any wall."""
         return self.clearance(point) >= radius
 
-    def sample_free(self, rng: np.random.Generator, clearance: float, away_from: tuple[float, float] | None = None, min_distance: float = 0.0, tries: int = 10_000) -> np.ndarray:
+    def free_mask(self, points: np.ndarray, radius: float) -> np.ndarray:
+        """Whether a disc of ``radius`` fits at each of ``points`` (``(k, 2)``): :meth:`is_free` point by point."""
+        return self.clearances(points) >= radius
+
+    def sample_free(
+        self,
+        rng: np.random.Generator,
+        clearance: float,
+        away_from: tuple[float, float] | None = None,
+        min_distance: float = 0.0,
+        tries: int = 10_000,
+    ) -> np.ndarray:
         """A uniform random point at least ``clearance`` from every wall (and ``min_distance`` from ``away_from``)."""
         hw, hh = self.half_extent
         for _ in range(tries):
@@ -181,7 +207,9 @@ class MazeSpec:
                 continue
             if self.clearance(point) >= clearance:
                 return point
-        raise ValueError(f"maze {self.name!r}: found no free point with clearance {clearance} m (and {min_distance} m from {away_from}) in {tries} tries")
+        raise ValueError(
+            f"maze {self.name!r}: found no free point with clearance {clearance} m (and {min_distance} m from {away_from}) in {tries} tries"
+        )
 
     # ------------------------------------------------------------------ connectivity and geodesics
     def check_connected(self, radius: float, resolution: float = CONNECTIVITY_RESOLUTION) -> None:
@@ -205,7 +233,9 @@ class MazeSpec:
         """Cell centres ``xs``, ``ys`` over the arena and ``free[row, col]``: whether a disc of ``radius`` fits there.
 
         Each wall only visits the cells within ``radius`` of its bounding box, and each obstacle
-        the cells of its bounding box, so the cost is the grid itself plus the walls' surroundings.
+        the cells of its bounding box, so the cost is the grid itself plus the walls' surroundings:
+        the raster behind :meth:`check_connected`, fast enough for a ``MAX_SIZE`` arena. For a few
+        thousand points (analysis grids, :meth:`distance_field`) use :meth:`free_mask`.
         """
         hw, hh = self.half_extent
         xs = -hw + (np.arange(math.ceil(2 * hw / resolution - 1e-9)) + 0.5) * resolution
@@ -224,6 +254,38 @@ class MazeSpec:
             for block_rows, points in _blocks(xs[cols], ys[rows], rows.start):
                 free[block_rows, cols] &= ~_points_in_polygon(points, poly).reshape(-1, len(xs[cols]))
         return xs, ys, free
+
+    def distance_field(self, goal: np.ndarray, radius: float, resolution: float) -> tuple[np.ndarray, np.ndarray]:
+        """Geodesic distances to ``goal`` over a grid of the free space (8-connected Dijkstra): ``(field, origin)``.
+
+        ``field[row, col]`` belongs to the cell whose lower-left corner is ``origin + resolution * (col, row)``;
+        a cell is free when a disc of ``radius`` fits at its centre (:meth:`free_mask`). Cells the disc
+        cannot occupy get the largest finite distance, so pushing against a wall never pays.
+        """
+        hw, hh = self.half_extent
+        origin = np.array([-hw, -hh])
+        cols, rows = math.ceil(2 * hw / resolution), math.ceil(2 * hh / resolution)
+        xs = origin[0] + (np.arange(cols) + 0.5) * resolution
+        ys = origin[1] + (np.arange(rows) + 0.5) * resolution
+        gx, gy = np.meshgrid(xs, ys)
+        free = self.free_mask(np.column_stack([gx.ravel(), gy.ravel()]), radius).reshape(rows, cols)
+        field = np.full((rows, cols), np.inf)
+        g_col, g_row = ((goal - origin) / resolution).astype(int)
+        field[g_row, g_col] = 0.0
+        queue = [(0.0, g_row, g_col)]
+        moves = [(dr, dc, resolution * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
+        while queue:
+            dist, r, c = heapq.heappop(queue)
+            if dist > field[r, c]:
+                continue
+            for dr, dc, cost in moves:
+                rr, cc = r + dr, c + dc
+                if 0 <= rr < rows and 0 <= cc < cols and free[rr, cc] and dist + cost < field[rr, cc]:
+                    field[rr, cc] = dist + cost
+                    heapq.heappush(queue, (dist + cost, rr, cc))
+        finite = field[np.isfinite(field)]
+        field[~np.isfinite(field)] = finite.max() if finite.size else 0.0
+        return field, origin
 
     def _free_components(self, radius: float, resolution: float) -> tuple[np.ndarray, int]:
         _, _, free = self.free_grid(radius, resolution)
@@ -298,19 +360,7 @@ class MazeSpec:
                 for s in range(steps + 1):
                     angle = a0 + sweep * s / steps
                     candidates.append(corner + margin * np.array([math.cos(angle), math.sin(angle)]))
-        return [p for p, c in zip(candidates, self._clearances(candidates)) if c >= radius - _GRAZE]
-
-    def _clearances(self, points: list[np.ndarray]) -> np.ndarray:
-        """:meth:`clearance` of many points (the inside tests vectorised over the points)."""
-        if not points:
-            return np.zeros(0)
-        xy = np.asarray(points, float).reshape(-1, 2)
-        distance = np.array([_clearance(float(x), float(y), self._segments) for x, y in xy])
-        hw, hh = self.half_extent
-        outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
-        for poly in self.obstacles:
-            outside |= _points_in_polygon(xy, poly)
-        return np.where(outside, -distance, distance)
+        return [p for p, c in zip(candidates, self.clearances(candidates)) if c >= radius - _GRAZE]
 
 
 # ---------------------------------------------------------------------- helpers
@@ -346,7 +396,6 @@ def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str)
                 raise ValueError(f"{where} is self-intersecting (edges {i} and {j} cross); obstacles must be simple polygons")
     if abs(_signed_area(pts)) < 1e-9:
         raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
-
 
 
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -409,7 +458,9 @@ def _pair_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -
         return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
 
     crossing = (np.sign(cross(a, b, p)) * np.sign(cross(a, b, q)) < 0) & (np.sign(cross(p, q, a)) * np.sign(cross(p, q, b)) < 0)
-    distance = np.minimum.reduce([_point_to_segments(p, a, b), _point_to_segments(q, a, b), _point_to_segments(a, p, q), _point_to_segments(b, p, q)])
+    distance = np.minimum.reduce(
+        [_point_to_segments(p, a, b), _point_to_segments(q, a, b), _point_to_segments(a, p, q), _point_to_segments(b, p, q)]
+    )
     return np.where(crossing, 0.0, distance)
 
 

@@ -1,6 +1,6 @@
 """The pymunk world: static walls and an iRobot Create 2 body with a differential drive.
 
-Figures (from ``shared/reference/model-figures.md``): the Create 2 is a disc of 0.17 m radius,
+Figures (the authors' reference robot; sources in ``docs/parameters.md``): the Create 2 is a disc of 0.17 m radius,
 wheel axle 0.272 m, top speed 0.5 m/s, turning in place at about 105 deg/s. One control step
 lasts ``CONTROL_DT = 0.3 s`` of simulated time, 0.15 m of travel at top speed: one place-cell
 update of the reference robot (about 0.14 m).
@@ -14,7 +14,7 @@ travel in a step, one physics step integrates the whole control step exactly; ne
 step is cut into substeps of ``SKIN`` travel (the margin of the collision disc: 15 substeps at
 top speed, plus one that only shows the solver the new command) until the robot is clear of
 every wall again, so that the robot never enters a wall, and a blocked robot slides along it or
-stops. Steps near walls cost about three times a free step.
+stops. Steps near walls therefore cost more than free ones.
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ import math
 import numpy as np
 import pymunk
 
+from hippo_env.geometry import segments_clearance, wrap_angle
 from hippo_env.maze import MazeSpec
-from hippo_env.sensors import _clearance
 
 ROBOT_RADIUS = 0.17  # m, Create 2 body
 AXLE_LENGTH = 0.272  # m, between the wheels
@@ -84,21 +84,21 @@ class RobotWorld:
     @property
     def heading(self) -> float:
         """Compass heading in (-pi, pi]."""
-        return _wrap(self.body.angle)
+        return wrap_angle(self.body.angle)
 
     def clearance(self) -> float:
         """Distance from the robot's centre to the nearest wall."""
         p = self.body.position
-        return _clearance(p.x, p.y, self.segments)
+        return segments_clearance(p.x, p.y, self.segments)
 
     def drive_heading(self, heading: float) -> bool:
         """Turn in place to ``heading`` (rad), then drive straight at top speed for one control step.
 
         Returns whether a wall blocked the robot.
         """
-        turn = abs(_wrap(heading - self.body.angle))
+        turn = abs(wrap_angle(heading - self.body.angle))
         self.sim_time += turn / TURN_RATE
-        self.body.angle = _wrap(heading)
+        self.body.angle = wrap_angle(heading)
         return self.drive_wheels(1.0, 1.0)
 
     def drive_wheels(self, left: float, right: float) -> bool:
@@ -179,7 +179,3 @@ def _unobstructed_end(x: float, y: float, angle: float, speed: float, spin: floa
     """Where the robot would end the control step with no wall in the way."""
     vx, vy = _chord_velocity(speed, spin, angle, CONTROL_DT)
     return x + vx * CONTROL_DT, y + vy * CONTROL_DT
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi

@@ -1,12 +1,16 @@
 """Drawing the maze, the robot, its path and rays: ``rgb_array`` frames and a ``human`` window.
 
-The figure is built once per environment; each frame only moves the robot, path and rays.
+The figure is built once per environment; each frame only moves the robot, path and rays. The
+renderer draws from a :class:`Frame`, a snapshot the environment hands it, never from the
+environment's own attributes. :func:`draw_maze` is the one drawing of an arena, used by the
+renderer, :func:`plot_maze` and the agent's figures (``hippo_agent.plots``, in :data:`PLOT_STYLE`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -16,8 +20,6 @@ from hippo_env.maze import MazeSpec
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from hippo_env.env import HippoMazeEnv
-
 WALL_COLOUR = "#4a4a4a"
 FLOOR_COLOUR = "#f4f1ea"
 GOAL_COLOUR = "#d62728"
@@ -25,22 +27,67 @@ ROBOT_COLOUR = "#1f77b4"
 MAX_DRAWN_RAYS = 90
 
 
-def draw_maze(maze: MazeSpec, ax: Axes, goal: tuple[float, float] | np.ndarray | None = None, goal_radius: float = 0.3) -> Axes:
-    """Draw the arena, its obstacles and (optionally) a goal disk on ``ax``; returns ``ax``."""
+@dataclass(frozen=True)
+class MazeStyle:
+    """How :func:`draw_maze` draws an arena: colours, the wall's width, the margin around it."""
+
+    floor: str
+    wall: str
+    wall_width: float
+    obstacle: str
+    obstacle_edge: str | None  # None: matplotlib's default for a filled patch (no edge)
+    obstacle_zorder: float
+    margin: float  # the axes reach this share of the larger half-side beyond the walls
+    axis_labels: bool
+
+
+#: The environment's frames and :func:`plot_maze`.
+ENV_STYLE = MazeStyle(FLOOR_COLOUR, WALL_COLOUR, 3, WALL_COLOUR, WALL_COLOUR, 1, 0.1, True)
+#: The agent's maps and trajectories: a grey floor, black obstacles above the data.
+PLOT_STYLE = MazeStyle("0.85", "black", 2, "black", None, 3, 0.0, False)
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What one rendered frame shows: a snapshot the environment hands the renderer.
+
+    ``ranges`` are the noise-free rays to draw (``None``: no rays), ``ranges[i]`` along
+    ``heading + 2*pi*i/len(ranges)``; ``goal`` is ``None`` in a goal-free run.
+    """
+
+    position: tuple[float, float]
+    heading: float
+    path: np.ndarray
+    goal: np.ndarray | None
+    goal_radius: float
+    ranges: np.ndarray | None
+    fps: float
+
+
+def draw_maze(
+    maze: Any, ax: Axes, goal: tuple[float, float] | np.ndarray | None = None, goal_radius: float = 0.3, style: MazeStyle = ENV_STYLE
+) -> Axes:
+    """Draw the arena, its obstacles and (optionally) a goal disk on ``ax``; returns ``ax``.
+
+    ``maze`` is a :class:`MazeSpec` or any object with its ``size`` and ``obstacles``.
+    """
     from matplotlib.patches import Circle, Polygon, Rectangle
 
-    hw, hh = maze.half_extent
-    ax.add_patch(Rectangle((-hw, -hh), 2 * hw, 2 * hh, facecolor=FLOOR_COLOUR, edgecolor=WALL_COLOUR, linewidth=3, zorder=0))
+    hw, hh = maze.size[0] / 2, maze.size[1] / 2
+    ax.add_patch(Rectangle((-hw, -hh), 2 * hw, 2 * hh, facecolor=style.floor, edgecolor=style.wall, linewidth=style.wall_width, zorder=0))
     for poly in maze.obstacles:
-        ax.add_patch(Polygon(poly, closed=True, facecolor=WALL_COLOUR, edgecolor=WALL_COLOUR, zorder=1))
+        ax.add_patch(
+            Polygon(np.asarray(poly), closed=True, facecolor=style.obstacle, edgecolor=style.obstacle_edge, zorder=style.obstacle_zorder)
+        )
     if goal is not None and np.all(np.isfinite(goal)):
         ax.add_patch(Circle(tuple(goal), goal_radius, facecolor="none", edgecolor=GOAL_COLOUR, linewidth=2, zorder=3))
-    margin = 0.1 * max(hw, hh)
+    margin = style.margin * max(hw, hh)
     ax.set_xlim(-hw - margin, hw + margin)
     ax.set_ylim(-hh - margin, hh + margin)
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    if style.axis_labels:
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
     return ax
 
 
@@ -92,32 +139,31 @@ class Renderer:
         (self.nose,) = self.ax.plot([], [], color="white", linewidth=2, zorder=5)
         self._matplotlib = matplotlib
 
-    def draw(self, env: HippoMazeEnv) -> np.ndarray | None:
-        x, y = env.world.position
-        heading = env.world.heading
+    def draw(self, frame: Frame) -> np.ndarray | None:
+        x, y = frame.position
+        heading = frame.heading
         self.body.center = (x, y)
         r = physics.ROBOT_RADIUS
         self.nose.set_data([x, x + r * math.cos(heading)], [y, y + r * math.sin(heading)])
-        path = env.path
-        self.path.set_data(path[:, 0], path[:, 1])
-        if env.goal is not None:
-            self.goal.center = tuple(env.goal)
-            self.goal.radius = env.goal_radius
+        self.path.set_data(frame.path[:, 0], frame.path[:, 1])
+        if frame.goal is not None:
+            self.goal.center = tuple(frame.goal)
+            self.goal.radius = frame.goal_radius
             self.goal.set_visible(True)
         else:
             self.goal.set_visible(False)
-        if env.render_rays:
-            n = env.rangefinder.n_rays
+        if frame.ranges is not None:
+            n = len(frame.ranges)
             every = max(1, n // MAX_DRAWN_RAYS)
             index = np.arange(0, n, every)
             angles = heading + 2 * math.pi * index / n
-            ends = np.stack([x + env._ranges[index] * np.cos(angles), y + env._ranges[index] * np.sin(angles)], axis=1)
+            ends = np.stack([x + frame.ranges[index] * np.cos(angles), y + frame.ranges[index] * np.sin(angles)], axis=1)
             self.rays.set_segments([[(x, y), tuple(end)] for end in ends])
         if self.human:
             import matplotlib.pyplot as plt
 
             self.fig.canvas.draw_idle()
-            plt.pause(1.0 / env.metadata["render_fps"])
+            plt.pause(1.0 / frame.fps)
             return None
         self.fig.canvas.draw()
         return np.asarray(self.fig.canvas.buffer_rgba())[..., :3].copy()

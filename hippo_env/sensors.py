@@ -17,7 +17,9 @@ _TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True)
-def _scan(x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.ndarray, segments: np.ndarray, max_range: float, out: np.ndarray) -> None:
+def _scan(
+    x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.ndarray, segments: np.ndarray, max_range: float, out: np.ndarray
+) -> None:
     n = ray_cos.shape[0]
     step = _TWO_PI / n
     c, s = math.cos(heading), math.sin(heading)
@@ -49,25 +51,6 @@ def _scan(x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.n
             u = (ax * dy - ay * dx) / denom
             if t >= 0.0 and -1e-9 <= u <= 1.0 + 1e-9 and t < out[k]:
                 out[k] = t
-
-
-@njit(cache=True)
-def _clearance(x: float, y: float, segments: np.ndarray) -> float:
-    best = math.inf
-    for m in range(segments.shape[0]):
-        ax, ay = segments[m, 0], segments[m, 1]
-        ex, ey = segments[m, 2] - ax, segments[m, 3] - ay
-        length2 = ex * ex + ey * ey
-        t = ((x - ax) * ex + (y - ay) * ey) / length2 if length2 > 0.0 else 0.0
-        t = min(1.0, max(0.0, t))
-        d = math.hypot(x - ax - t * ex, y - ay - t * ey)
-        best = min(best, d)
-    return best
-
-
-def clearance(position: np.ndarray | tuple[float, float], segments: np.ndarray) -> float:
-    """Distance from ``position`` to the nearest wall segment (unsigned)."""
-    return float(_clearance(float(position[0]), float(position[1]), segments))
 
 
 class Rangefinder:

@@ -26,11 +26,13 @@ class TinyRoom:
     """A 6 m square room, a point robot, 360 rays: enough to drive the agent without hippo_env."""
 
     def __init__(self, action_space, goal=(1.5, 1.5)):
-        self.observation_space = gym.spaces.Dict({
-            "ranges": gym.spaces.Box(0.0, 8.0, (360,), np.float32),
-            "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
-            "odometry": gym.spaces.Box(-0.3, 0.3, (2,), np.float32),
-        })
+        self.observation_space = gym.spaces.Dict(
+            {
+                "ranges": gym.spaces.Box(0.0, 8.0, (360,), np.float32),
+                "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+                "odometry": gym.spaces.Box(-0.3, 0.3, (2,), np.float32),
+            }
+        )
         self.action_space = action_space
         self.moved = np.zeros(2)
         self.goal = np.array(goal)
@@ -38,8 +40,11 @@ class TinyRoom:
 
     def obs(self):
         c, s = np.cos(self.heading), np.sin(self.heading)
-        return {"ranges": square_ranges(self.pos, self.heading), "heading": np.array([c, s], np.float32),
-                "odometry": np.array([c * self.moved[0] + s * self.moved[1], -s * self.moved[0] + c * self.moved[1]], np.float32)}
+        return {
+            "ranges": square_ranges(self.pos, self.heading),
+            "heading": np.array([c, s], np.float32),
+            "odometry": np.array([c * self.moved[0] + s * self.moved[1], -s * self.moved[0] + c * self.moved[1]], np.float32),
+        }
 
     def reset(self, start=(-1.5, -1.5)):
         self.pos, self.heading, self.moved = np.array(start, float), 0.0, np.zeros(2)
@@ -73,7 +78,8 @@ def play(env, agent, steps, start=(-1.5, -1.5)):
     return actions, obs
 
 
-def trained_agent(action_space=gym.spaces.Discrete(8)):
+def trained_agent(action_space=None):
+    action_space = gym.spaces.Discrete(8) if action_space is None else action_space
     env = TinyRoom(action_space)
     agent = HippocampalAgent(env.observation_space, action_space, AgentConfig(n_place=300, dry_run_steps=0), seed=6)
     agent.start_trial(0)
@@ -93,15 +99,24 @@ def test_round_trip_is_exact(tmp_path, action_space):
     assert path.exists()
     loaded = HippocampalAgent.load(path)
     assert loaded.config == agent.config and loaded.seed == agent.seed
-    for a, b in [(agent.place.W_pb, loaded.place.W_pb), (agent.place.W_pp, loaded.place.W_pp),
-                 (agent.reward.W_rp, loaded.reward.W_rp), (agent.reward.W_eff, loaded.reward.W_eff),
-                 (agent.place.s, loaded.place.s), (agent.place.v, loaded.place.v),
-                 (agent.place.trace, loaded.place.trace), (agent.place.hd_trace, loaded.place.hd_trace)]:
+    for a, b in [
+        (agent.place.W_pb, loaded.place.W_pb),
+        (agent.place.W_pp, loaded.place.W_pp),
+        (agent.reward.W_rp, loaded.reward.W_rp),
+        (agent.reward.W_eff, loaded.reward.W_eff),
+        (agent.place.s, loaded.place.s),
+        (agent.place.v, loaded.place.v),
+        (agent.place.trace, loaded.place.trace),
+        (agent.place.hd_trace, loaded.place.hd_trace),
+    ]:
         assert a.dtype == b.dtype
         np.testing.assert_array_equal(a, b)
     assert loaded.rng.bit_generator.state == agent.rng.bit_generator.state
     assert (loaded.intended_heading, loaded.segment_left, loaded.goal_rewarded) == (
-        agent.intended_heading, agent.segment_left, agent.goal_rewarded)
+        agent.intended_heading,
+        agent.segment_left,
+        agent.goal_rewarded,
+    )
     assert type(loaded.action_space) is type(agent.action_space)
     # the future is identical: same actions from the same observations, same weights after
     pos, heading = env.pos.copy(), env.heading

@@ -224,9 +224,16 @@ def test_discrete_action_outside_space(envs, action):
         envs["discrete"].step(action)
 
 
+def _step_moves(env, action):
+    """Step from the arena's centre; True if the robot's position or heading changed."""
+    _, before = env.reset(options={"start": [0.0, 0.0], "heading": 0.0})
+    _, _, _, _, after = env.step(action)
+    return not (np.allclose(after["position"], before["position"]) and math.isclose(after["heading"], before["heading"]))
+
+
 @pytest.mark.parametrize("action", [0, 7, np.int64(3), np.array(5), np.array([2])])
 def test_discrete_action_accepted(envs, action):
-    envs["discrete"].step(action)
+    assert _step_moves(envs["discrete"], action)
 
 
 @pytest.mark.parametrize(
@@ -248,10 +255,10 @@ def test_wheels_action_outside_space(envs, action):
 
 
 def test_box_actions_accepted(envs):
-    envs["heading"].step(np.array([math.pi], np.float32))
-    envs["heading"].step([-math.pi])
-    envs["wheels"].step(np.array([-1.0, 1.0], np.float32))
-    envs["wheels"].step([0.25, 0.5])
+    assert _step_moves(envs["heading"], np.array([math.pi], np.float32))
+    assert _step_moves(envs["heading"], [-math.pi])
+    assert _step_moves(envs["wheels"], np.array([-1.0, 1.0], np.float32))  # turns in place
+    assert _step_moves(envs["wheels"], [0.25, 0.5])
 
 
 def test_bad_action_through_gym_make():

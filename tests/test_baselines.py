@@ -9,16 +9,24 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from hippomaze.baselines import RandomAgent
+from hippomaze.baselines.hyperparams import SWEEP, DQNParams, PPOParams, make_params
 
 import hippo_env  # noqa: F401
-from baselines import RandomAgent
-from baselines.hyperparams import SWEEP, DQNParams, PPOParams, make_params
-from baselines.registry import AGENT_NAMES, PRIVILEGED, agent_factory
-from hippo_env.protocol import run_dmtp
+from hippo_env.dmtp import run_dmtp
+from hippomaze.registry import AGENT_NAMES, PRIVILEGED, agent_factory
 
 pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
 
-TINY_DQN = {"learning_starts": 50, "buffer_size": 500, "batch_size": 16, "train_freq": 4, "gradient_steps": 1, "target_update_interval": 100, "n_timesteps": 600}
+TINY_DQN = {
+    "learning_starts": 50,
+    "buffer_size": 500,
+    "batch_size": 16,
+    "train_freq": 4,
+    "gradient_steps": 1,
+    "target_update_interval": 100,
+    "n_timesteps": 600,
+}
 TINY_PPO = {"n_steps": 64, "batch_size": 16, "n_epochs": 1, "n_timesteps": 600}
 RUN = {"trials": 1, "runs": 200, "max_episode_steps": 150, "progress": False, "fresh_agent_per_trial": False}
 
@@ -57,14 +65,14 @@ class TestRegistry:
             agent_factory("random", epsilon=0.1)
 
     def test_module_class(self, env):
-        agent = agent_factory("baselines.random_agent:RandomAgent")(env.observation_space, env.action_space, 3)
+        agent = agent_factory("hippomaze.baselines.random_agent:RandomAgent")(env.observation_space, env.action_space, seed=3)
         assert isinstance(agent, RandomAgent)
         with pytest.raises(ValueError, match="cannot import"):
             agent_factory("no_such_module_xyz:Agent")
 
     @pytest.mark.parametrize("name", ["random", "dqn", "ppo", "dynaq"])
     def test_factories_follow_the_protocol(self, env, name):
-        agent = agent_factory(name)(env.observation_space, env.action_space, 0)
+        agent = agent_factory(name)(env.observation_space, env.action_space, seed=0)
         for method in ("reset", "act", "observe"):
             assert callable(getattr(agent, method))
 
@@ -76,15 +84,16 @@ class TestRegistry:
         assert agent_factory("hippo").env_kwargs == {"odometry": True}
         assert agent_factory("hippo-paper").env_kwargs == {}
         assert agent_factory("hippo", path_integration=False).env_kwargs == {}
-        result = run_dmtp(agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0,
-                          max_episode_steps=200, progress=False)
+        result = run_dmtp(
+            agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0, max_episode_steps=200, progress=False
+        )
         assert len(result.episodes) == 1 and result.env_steps_total > 100
 
 
 # ------------------------------------------------------------------------------------------ features
 class TestScanFeatures:
     def test_allocentric_scan_does_not_depend_on_heading(self, env):
-        from baselines.sb3_agents import ScanFeatures
+        from hippomaze.baselines.sb3_agents import ScanFeatures
 
         features = ScanFeatures(env.observation_space, n_bins=90, allocentric=True)
         u = env.unwrapped
@@ -97,7 +106,7 @@ class TestScanFeatures:
         assert np.all((scans[0] >= -1) & (scans[0] <= 1))
 
     def test_egocentric_scan_turns_with_the_robot(self, env):
-        from baselines.sb3_agents import ScanFeatures
+        from hippomaze.baselines.sb3_agents import ScanFeatures
 
         features = ScanFeatures(env.observation_space, n_bins=720, allocentric=False)
         u = env.unwrapped
@@ -105,7 +114,7 @@ class TestScanFeatures:
         np.testing.assert_allclose(np.roll(b[:-2], 180), a[:-2], atol=1e-5)
 
     def test_bins_must_divide_the_rays(self, env):
-        from baselines.sb3_agents import ScanFeatures
+        from hippomaze.baselines.sb3_agents import ScanFeatures
 
         with pytest.raises(ValueError, match="must divide the number of rays"):
             ScanFeatures(env.observation_space, n_bins=7)
@@ -118,7 +127,7 @@ class TestSB3Agents:
         made = []
 
         def factory(observation_space, action_space, seed):
-            made.append(agent_factory(name, **tiny)(observation_space, action_space, seed))
+            made.append(agent_factory(name, **tiny)(observation_space, action_space, seed=seed))
             return made[-1]
 
         result = run_dmtp(factory, "open", seed=0, step_budget=600, **RUN)
@@ -131,7 +140,7 @@ class TestSB3Agents:
         first = run_dmtp(agent_factory(name, **tiny), "open", seed=1, step_budget=500, **RUN)
         # Another agent working in between (touching the global generators) must not change anything.
         env = gym.make("HippoMaze-v0")
-        other = agent_factory(name, **tiny)(env.observation_space, env.action_space, 99)
+        other = agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=99)
         np.random.seed(123)
         obs, info = env.reset(seed=5)
         other.reset(obs, info)
@@ -148,7 +157,7 @@ class TestSB3Agents:
         assert _episodes(third) != _episodes(first)
 
     def test_goal_switch_signal(self, name, tiny, env):
-        agent = agent_factory(name, **tiny)(env.observation_space, env.action_space, 0)
+        agent = agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=0)
         agent.start_trial(0)  # before any experience: not a switch
         assert agent.goal_switches == 0
         obs, info = env.reset(seed=0)
@@ -168,7 +177,7 @@ class TestSB3Agents:
     def test_acting_copy_equals_the_torch_network(self, name, tiny, env):
         import torch
 
-        agent = agent_factory(name, **tiny)(env.observation_space, env.action_space, 0)
+        agent = agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=0)
         obs, _ = env.reset(seed=0)
         x = agent.features(obs)
         with torch.no_grad():
@@ -183,14 +192,14 @@ class TestSB3Agents:
     def test_needs_discrete_actions(self, name, tiny):
         env = gym.make("HippoMaze-v0", action_type="heading")
         with pytest.raises(ValueError, match="Discrete action space"):
-            agent_factory(name, **tiny)(env.observation_space, env.action_space, 0)
+            agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=0)
 
 
 @pytest.mark.parametrize("zero_critic", [True, False])
 def test_ppo_policy_moves_before_any_reward_only_with_a_random_critic(zero_critic):
     # No goal, so every reward is 0. A zero critic predicts that exactly: zero advantages, no policy update.
     env = gym.make("HippoMaze-v0")
-    agent = agent_factory("ppo", **TINY_PPO, zero_init_critic=zero_critic)(env.observation_space, env.action_space, 0)
+    agent = agent_factory("ppo", **TINY_PPO, zero_init_critic=zero_critic)(env.observation_space, env.action_space, seed=0)
     obs, info = env.reset(seed=0, options={"goal": None})
     x = agent.features(obs)
     logits_before = agent.pi_net(x).copy()
@@ -204,7 +213,7 @@ def test_ppo_policy_moves_before_any_reward_only_with_a_random_critic(zero_criti
 
 
 def test_dqn_truncation_is_not_terminal(env):
-    agent = agent_factory("dqn", **TINY_DQN)(env.observation_space, env.action_space, 0)
+    agent = agent_factory("dqn", **TINY_DQN)(env.observation_space, env.action_space, seed=0)
     obs, info = env.reset(seed=0)
     agent.reset(obs, info)
     action = agent.act(obs)
@@ -223,7 +232,7 @@ def test_missing_sb3_names_the_extra(monkeypatch, env):
         return real_import(name, *args, **kwargs)
 
     monkeypatch.setattr(builtins, "__import__", fake_import)
-    from baselines.sb3_agents import DQNAgent
+    from hippomaze.baselines.sb3_agents import DQNAgent
 
     with pytest.raises(ImportError, match=r"pip install -e \.\[baselines\]"):
         DQNAgent(env.observation_space, env.action_space, seed=0)
@@ -235,7 +244,7 @@ class TestDynaQ:
         made = []
 
         def factory(observation_space, action_space, seed):
-            made.append(agent_factory("dynaq")(observation_space, action_space, seed))
+            made.append(agent_factory("dynaq")(observation_space, action_space, seed=seed))
             return made[-1]
 
         result = run_dmtp(factory, "open", trials=1, runs=2000, seed=0, progress=False, fresh_agent_per_trial=False, step_budget=25_000)
@@ -245,7 +254,7 @@ class TestDynaQ:
         assert np.median([e.indirectness for e in late]) < 3.0 < result.episodes[0].indirectness
 
     def test_goal_switch_keeps_the_map(self, env):
-        agent = agent_factory("dynaq")(env.observation_space, env.action_space, 0)
+        agent = agent_factory("dynaq")(env.observation_space, env.action_space, seed=0)
         obs, info = env.reset(seed=0)
         agent.reset(obs, info)
         for _ in range(300):
@@ -260,7 +269,7 @@ class TestDynaQ:
 
 # --------------------------------------------------------------------------------------- hyperparams
 def test_hyperparams_are_documented_and_checked():
-    import baselines.hyperparams as hp
+    import hippomaze.baselines.hyperparams as hp
 
     assert "rl-baselines3-zoo" in hp.__doc__
     for cls in (DQNParams, PPOParams):

@@ -10,7 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from hippo_agent import AgentConfig
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells, replay
+
+BVC = AgentConfig().bvc_kwargs()  # the cells' parameters as the agent passes them
 
 
 def square_ranges(pos, heading, n_rays=720, half=5.0, max_range=10.0):
@@ -44,7 +47,7 @@ def arc_scan(n_rays=720, max_range=10.0, direction=0.0, distance=3.0, width_deg=
 
 
 def test_bvc_peaks_at_preferred_distance_and_direction():
-    bvc = BoundaryVectorCells(720, 10.0)
+    bvc = BoundaryVectorCells(720, 10.0, **BVC)
     rates = bvc.update(arc_scan(direction=math.pi / 2, distance=3.06), 0.0).reshape(8, 50)
     d, m = np.unravel_index(np.argmax(rates), rates.shape)
     assert d == 2  # direction index 2 = 90 deg
@@ -56,7 +59,7 @@ def test_bvc_peaks_at_preferred_distance_and_direction():
 
 
 def test_bvc_largest_response_is_peak_rate():
-    bvc = BoundaryVectorCells(720, 10.0)
+    bvc = BoundaryVectorCells(720, 10.0, **BVC)
     # circular room with radius exactly a preferred distance: every direction's cell at that distance peaks
     r = bvc.distances[20]
     rates = bvc.update(np.full(720, r, np.float32), 1.234).reshape(8, 50)
@@ -69,7 +72,7 @@ def test_bvc_largest_response_is_peak_rate():
 
 def test_bvc_is_allocentric():
     """The same place seen with different headings gives the same BVC rates."""
-    bvc = BoundaryVectorCells(720, 10.0)
+    bvc = BoundaryVectorCells(720, 10.0, **BVC)
     pos = (1.5, -0.5)
     a = bvc.rates_for(square_ranges(pos, 0.0), 0.0)
     for heading in (0.5 * math.pi / 180 * 37, 1.0, -2.5, math.pi):
@@ -82,12 +85,12 @@ def test_bvc_is_allocentric():
 
 def test_bvc_ignores_rays_at_max_range():
     scan = np.full(720, 10.0, np.float32)
-    assert BoundaryVectorCells(720, 10.0).rates_for(scan, 0.0).max() == 0.0
-    assert BoundaryVectorCells(720, 10.0, ignore_max_range=False).rates_for(scan, 0.0).max() > 0.4
+    assert BoundaryVectorCells(720, 10.0, **BVC).rates_for(scan, 0.0).max() == 0.0
+    assert BoundaryVectorCells(720, 10.0, **{**BVC, "ignore_max_range": False}).rates_for(scan, 0.0).max() > 0.4
 
 
 def test_bvc_distance_scaled_sigma():
-    bvc = BoundaryVectorCells(720, 10.0, distance_scaled=True)
+    bvc = BoundaryVectorCells(720, 10.0, **{**BVC, "distance_scaled": True})
     assert bvc.sigma_r[0] == pytest.approx(0.5) and bvc.sigma_r[-1] == pytest.approx(0.5 * (1 + 10 / 1.83))
     near = bvc.rates_for(np.full(720, bvc.distances[5], np.float32), 0.0).reshape(8, 50)[0, 5]
     far = bvc.rates_for(np.full(720, bvc.distances[45], np.float32), 0.0).reshape(8, 50)[0, 45]
@@ -96,17 +99,17 @@ def test_bvc_distance_scaled_sigma():
 
 def test_bvc_rejects_wrong_scan_length():
     with pytest.raises(ValueError, match="expected \\(720,\\)"):
-        BoundaryVectorCells(720, 10.0).rates_for(np.zeros(360, np.float32), 0.0)
+        BoundaryVectorCells(720, 10.0, **BVC).rates_for(np.zeros(360, np.float32), 0.0)
 
 
 # ------------------------------------------------------------------ place cells (eqs. 3-5)
 def make_place(n=50, n_bvc=400, seed=0, **kw):
-    return PlaceCells(n, n_bvc, 8, np.random.default_rng(seed), **kw)
+    return PlaceCells(n, n_bvc, 8, np.random.default_rng(seed), **{**AgentConfig().place_kwargs(), **kw})
 
 
 def test_place_rates_are_tanh_of_rectified_potential():
     pc = make_place()
-    b = BoundaryVectorCells(720, 10.0).rates_for(square_ranges((0.0, 0.0), 0.0), 0.0)
+    b = BoundaryVectorCells(720, 10.0, **BVC).rates_for(square_ranges((0.0, 0.0), 0.0), 0.0)
     v = pc.step(b, 30)
     np.testing.assert_allclose(v, np.tanh(np.maximum(pc.s, 0)))
     assert np.all((v >= 0) & (v < 1))
@@ -118,7 +121,7 @@ def test_place_rates_are_tanh_of_rectified_potential():
 
 def test_oja_keeps_weights_bounded_and_only_touches_active_rows():
     pc = make_place(n=200)
-    bvc = BoundaryVectorCells(720, 10.0)
+    bvc = BoundaryVectorCells(720, 10.0, **BVC)
     rng = np.random.default_rng(1)
     norms0 = np.linalg.norm(pc.W_pb, axis=1)
     for t in range(500):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from hippo_agent.cli import main
+from hippomaze.cli import main
 
 
 class ForwardAgent:
@@ -30,7 +30,26 @@ class ForwardAgent:
 
 def test_dmtp_writes_contract_record_and_figures(tmp_path, capsys):
     out = tmp_path / "run"
-    code = main(["dmtp", "--maze", "maze1", "--trials", "2", "--runs", "2", "--seed", "3", "--agent", "random", "--max-steps", "150", "--out", str(out), "--no-progress"])
+    code = main(
+        [
+            "dmtp",
+            "--maze",
+            "maze1",
+            "--trials",
+            "2",
+            "--runs",
+            "2",
+            "--seed",
+            "3",
+            "--agent",
+            "random",
+            "--max-steps",
+            "150",
+            "--out",
+            str(out),
+            "--no-progress",
+        ]
+    )
     assert code == 0
     record = json.loads((out / "dmtp.json").read_text())
     assert {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "episodes"} <= set(record)
@@ -55,7 +74,23 @@ def test_same_seed_same_record(tmp_path):
 
 def test_third_party_agent_by_module_path(tmp_path):
     out = tmp_path / "mine"
-    code = main(["dmtp", "--trials", "1", "--runs", "1", "--agent", "tests.test_cli:ForwardAgent", "--max-steps", "50", "--no-figures", "--no-progress", "--out", str(out)])
+    code = main(
+        [
+            "dmtp",
+            "--trials",
+            "1",
+            "--runs",
+            "1",
+            "--agent",
+            "tests.test_cli:ForwardAgent",
+            "--max-steps",
+            "50",
+            "--no-figures",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     record = json.loads((out / "dmtp.json").read_text())
     assert record["agent"] == "tests.test_cli:ForwardAgent"
@@ -105,9 +140,9 @@ class InterruptingAgent(ForwardAgent):
 def test_out_naming_a_file_fails_before_any_work(tmp_path, capsys, monkeypatch):
     target = tmp_path / "results.txt"
     target.write_text("mine")
-    import hippo_env.protocol
+    import hippo_env.dmtp
 
-    monkeypatch.setattr(hippo_env.protocol, "run_dmtp", lambda *a, **k: pytest.fail("the experiment ran"))
+    monkeypatch.setattr(hippo_env.dmtp, "run_dmtp", lambda *a, **k: pytest.fail("the experiment ran"))
     assert main([*QUICK, "--out", str(target)]) == 2
     assert "is a file; give a folder" in capsys.readouterr().err
     assert target.read_text() == "mine"
@@ -140,7 +175,22 @@ def test_overwrite_clears_what_dmtp_wrote_and_nothing_else(tmp_path, capsys):
 def test_ctrl_c_saves_finished_runs_and_exits_130(tmp_path, capsys):
     InterruptingAgent.runs_started = 0
     out = tmp_path / "run"
-    code = main(["dmtp", "--trials", "3", "--runs", "1", "--agent", "tests.test_cli:InterruptingAgent", "--max-steps", "15", "--no-progress", "--out", str(out)])
+    code = main(
+        [
+            "dmtp",
+            "--trials",
+            "3",
+            "--runs",
+            "1",
+            "--agent",
+            "tests.test_cli:InterruptingAgent",
+            "--max-steps",
+            "15",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 130
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
@@ -160,7 +210,7 @@ def test_complete_runs_are_marked_complete(tmp_path):
 def test_dmtp_json_is_written_atomically(tmp_path, monkeypatch):
     """A crash while writing leaves the earlier dmtp.json whole (a temporary file, then rename)."""
     import hippo_env.files
-    from hippo_env.protocol import DMTPResult
+    from hippo_env.dmtp import DMTPResult
 
     result = DMTPResult(maze="open", agent="x", seed=0, trials=1, runs=1)
     result.save(tmp_path)

@@ -35,9 +35,17 @@ def test_diagnose_runs_and_reports_every_measure(tmp_path):
     path = tmp_path / "small.json"
     path.write_text('{"name": "small", "size": [4.0, 4.0], "obstacles": []}')
     record = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, config='{"n_place": 300}'))
-    for key in ("twins", "reward_map_spearman", "replay_reach_median_m", "preplay_progress", "pi_error_median_m",
-                "pi_error_dry_run_median_m", "runs_misplaced_share", "anchor_steps_median",
-                "exploit_fallback_share"):
+    for key in (
+        "twins",
+        "reward_map_spearman",
+        "replay_reach_median_m",
+        "preplay_progress",
+        "pi_error_median_m",
+        "pi_error_dry_run_median_m",
+        "runs_misplaced_share",
+        "anchor_steps_median",
+        "exploit_fallback_share",
+    ):
         assert key in record
     assert record["pi_error_dry_run_median_m"] is not None and record["pi_error_dry_run_median_m"] < 0.2
     assert record["pi_error_median_m"] is not None and record["runs_misplaced_share"] is not None

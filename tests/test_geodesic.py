@@ -88,7 +88,9 @@ def grid_distances(spec: MazeSpec, goal: np.ndarray, clearance: float = R) -> tu
         sources.append(index[r0, c0])
         targets.append(index[r0 + dr, c0 + dc])
         weights.append(np.full(len(r0), math.hypot(dr * dy, dc * dx)))
-    graph = coo_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))), shape=(rows * cols, rows * cols)).tocsr()
+    graph = coo_matrix(
+        (np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))), shape=(rows * cols, rows * cols)
+    ).tocsr()
     goal_cell = _nearest_free(centres, free.ravel(), goal)
     distance, predecessors = dijkstra(graph, indices=goal_cell, return_predecessors=True)
     return centres, free.ravel(), distance + float(np.linalg.norm(centres[goal_cell] - goal)), predecessors
@@ -98,7 +100,9 @@ def _shift(mask: np.ndarray, dr: int, dc: int) -> np.ndarray:
     """``out[r, c] = mask[r + dr, c + dc]`` (False beyond the edge)."""
     out = np.zeros_like(mask)
     rows, cols = mask.shape
-    out[max(-dr, 0) : rows - max(dr, 0), max(-dc, 0) : cols - max(dc, 0)] = mask[max(dr, 0) : rows - max(-dr, 0) or None, max(dc, 0) : cols - max(-dc, 0) or None]
+    out[max(-dr, 0) : rows - max(dr, 0), max(-dc, 0) : cols - max(dc, 0)] = mask[
+        max(dr, 0) : rows - max(-dr, 0) or None, max(dc, 0) : cols - max(-dc, 0) or None
+    ]
     return out
 
 
@@ -181,7 +185,10 @@ def test_clockwise_triangle_corner_from_the_issue():
 def test_orientation_does_not_change_any_geodesic(clockwise):
     """The same maze with every polygon reversed gives the same geodesics."""
     rng = np.random.default_rng(3)
-    polygons = [_polygon(x, y, list(rng.uniform(0.2, 0.9, 5)), list(rng.uniform(0.2, 1.0, 5)), clockwise) for x, y in ((-1.5, 0.5), (1.2, -0.8), (0.5, 1.8))]
+    polygons = [
+        _polygon(x, y, list(rng.uniform(0.2, 0.9, 5)), list(rng.uniform(0.2, 1.0, 5)), clockwise)
+        for x, y in ((-1.5, 0.5), (1.2, -0.8), (0.5, 1.8))
+    ]
     spec = MazeSpec(name="a", size=(6.0, 6.0), obstacles=polygons)
     reversed_spec = MazeSpec(name="b", size=(6.0, 6.0), obstacles=[p[::-1] for p in polygons])
     for _ in range(30):
@@ -209,7 +216,10 @@ def test_no_successful_run_is_shorter_than_the_geodesic():
     rng = np.random.default_rng(11)
     arrived = 0
     for _ in range(8):
-        polygons = [_polygon(*rng.uniform(-1.5, 1.5, 2), list(rng.uniform(0.2, 0.8, 5)), list(rng.uniform(0.2, 1.0, 5)), bool(rng.integers(2))) for _ in range(2)]
+        polygons = [
+            _polygon(*rng.uniform(-1.5, 1.5, 2), list(rng.uniform(0.2, 0.8, 5)), list(rng.uniform(0.2, 1.0, 5)), bool(rng.integers(2)))
+            for _ in range(2)
+        ]
         try:
             spec = MazeSpec(name="drive", size=(5.0, 5.0), obstacles=polygons)
             env = gym.make("HippoMaze-v0", maze=spec, n_rays=8, action_type="heading")
@@ -234,8 +244,6 @@ def test_no_successful_run_is_shorter_than_the_geodesic():
             assert info["path_length"] >= info["shortest_path_length"] - 1e-9
             assert math.isfinite(info["indirectness"]) and info["indirectness"] >= 0
     assert arrived >= 6  # 8 of 8 arrive as written
-
-
 
 
 def test_reset_raises_when_no_geodesic_can_be_computed(monkeypatch):

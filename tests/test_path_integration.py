@@ -64,8 +64,16 @@ def test_bad_sensor_arguments_are_rejected(kwargs):
 
 # ------------------------------------------------------------------ the integrator
 def integrator(**kw):
-    args = {"motion_noise": 0.0, "min_motion_noise": 0.0, "vote_sigma": 0.4, "anchor_radius": 0.3,
-            "anchor_weight": 0.8, "redraw_fraction": 0.2, **kw}
+    args = {
+        "motion_noise": 0.0,
+        "min_motion_noise": 0.0,
+        "vote_sigma": 0.4,
+        "anchor_radius": 0.3,
+        "anchor_weight": 0.8,
+        "redraw_fraction": 0.2,
+        "lag": 0.0,
+        **kw,
+    }
     return PathIntegrator(100, np.random.default_rng(0), **args)
 
 
@@ -130,7 +138,7 @@ def test_cells_that_also_fire_at_a_look_alike_place_vote_weakly():
 def test_place_cells_learn_how_far_from_their_centre_the_boundary_code_fires_them():
     from hippo_agent.cells import PlaceCells
 
-    place = PlaceCells(3, 4, 8, np.random.default_rng(0))
+    place = PlaceCells(3, 4, 8, np.random.default_rng(0), **AgentConfig().place_kwargs())
     place.centres[:] = [[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]]
     place.centre_mass[:] = [1.0, 1.0, 0.0]  # the third has no centre yet
     for position in ([0.0, 0.0], [4.0, 0.0]) * 20:  # cell 0 fires at its centre and 4 m away

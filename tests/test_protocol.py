@@ -8,9 +8,10 @@ import math
 
 import numpy as np
 import pytest
+from hippomaze.baselines import RandomAgent
 
-from baselines import RandomAgent
-from hippo_env.protocol import DMTPResult, load_agent_class, run_dmtp
+from hippo_env.dmtp import DMTPResult, run_dmtp
+from hippomaze.registry import load_agent_class
 
 EPISODE_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
 TINY = {"trials": 2, "runs": 2, "max_episode_steps": 200, "progress": False, "env_kwargs": {"n_rays": 32}}
@@ -142,13 +143,51 @@ def test_bad_trials_or_runs(value):
 
 
 def test_load_agent_class():
-    assert load_agent_class("baselines:RandomAgent") is RandomAgent
-    assert load_agent_class("baselines.random_agent:RandomAgent") is RandomAgent
+    assert load_agent_class("hippomaze.baselines:RandomAgent") is RandomAgent
+    assert load_agent_class("hippomaze.baselines.random_agent:RandomAgent") is RandomAgent
     with pytest.raises(ValueError, match="agent 'greedy' is unknown; give hippo, random, dqn, ppo, or module:Class"):
         load_agent_class("greedy")
     with pytest.raises(ValueError, match="cannot import module 'no_such_module_xyz'"):
         load_agent_class("no_such_module_xyz:Agent")
-    with pytest.raises(ValueError, match="module 'baselines' has no attribute 'Nope'"):
-        load_agent_class("baselines:Nope")
+    with pytest.raises(ValueError, match="module 'hippomaze.baselines' has no attribute 'Nope'"):
+        load_agent_class("hippomaze.baselines:Nope")
     with pytest.raises(ValueError, match="does not follow the Agent protocol: it lacks reset, act, observe"):
         load_agent_class("json:JSONDecoder")
+
+
+def test_agent_base_gives_the_optional_hooks():
+    from hippo_env.agent_protocol import Agent, AgentBase
+
+    class Still(AgentBase):
+        def reset(self, observation, info):
+            self.runs = getattr(self, "runs", 0) + 1
+
+        def act(self, observation):
+            return 0
+
+        def observe(self, action, observation, reward, terminated, truncated, info):
+            pass
+
+    result = run_dmtp(Still, maze="open", trials=1, runs=2, max_episode_steps=5, progress=False)
+    assert [e.steps for e in result.episodes] == [5, 5]
+    assert isinstance(Still(None, None), Agent)
+    with pytest.raises(NotImplementedError):
+        AgentBase(None, None).act(None)
+
+
+def test_agents_registered_by_entry_point(monkeypatch):
+    from importlib.metadata import EntryPoint
+
+    from hippomaze import registry
+
+    points = [
+        EntryPoint(name="mine", value="hippomaze.baselines.random_agent:RandomAgent", group=registry.ENTRY_POINT_GROUP),
+        EntryPoint(name="broken", value="no_such_module_xyz:Agent", group=registry.ENTRY_POINT_GROUP),
+    ]
+    monkeypatch.setattr(registry, "entry_points", lambda group: [p for p in points if p.group == group])
+    result = run_dmtp(registry.agent_factory("mine"), maze="open", trials=1, runs=1, max_episode_steps=5, progress=False)
+    assert result.episodes[0].steps == 5
+    with pytest.raises(ValueError, match="agent 'broken' .*did not load"):
+        registry.agent_factory("broken")
+    with pytest.raises(ValueError, match="one registered by an installed package \\(broken, mine\\)"):
+        registry.agent_factory("nobody")

@@ -4,6 +4,7 @@ analysis (pooling, steps to criterion, IQM intervals, the headline's "> budget")
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import json
 import math
@@ -11,11 +12,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hippomaze.baselines import RandomAgent
 
-from baselines import RandomAgent
-from benchmarks import sample_efficiency as se
+from benchmarks.sample_efficiency import cli, jobs, metrics, report, summary
 
-pytest.importorskip("stable_baselines3", reason="the DQN/PPO baselines need the 'baselines' extra")
+# only the runs of DQN and PPO need stable-baselines3: the analysis tests run without it
+needs_sb3 = pytest.mark.skipif(
+    importlib.util.find_spec("stable_baselines3") is None, reason="the DQN/PPO baselines need the 'baselines' extra"
+)
 
 HIPPO = importlib.util.find_spec("hippo_agent") is not None
 AGENTS = ["random", "dqn", "ppo", "dynaq"] + (["hippo"] if HIPPO else [])
@@ -33,14 +37,17 @@ def _strip(record: dict) -> dict:
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("se")
-    summary = se.main([*QUICK, "--agents", *AGENTS, "--out", str(out)])
+    summary = cli.main([*QUICK, "--agents", *AGENTS, "--out", str(out)])
     return out, summary
 
 
 def _records(out: Path) -> dict[str, dict]:
-    return {p.name.removesuffix(".json.gz"): se.load_record(p) for p in sorted((out / "sample_efficiency").glob("*.json.gz"))}
+    """Every job record under ``out``, as the JSON objects stored (None for one that cannot be read)."""
+    loaded = {p.name.removesuffix(".json.gz"): jobs.load_record(p) for p in sorted((out / "sample_efficiency").glob("*.json.gz"))}
+    return {name: None if record is None else record.to_dict() for name, record in loaded.items()}
 
 
+@needs_sb3
 class TestQuickRun:
     def test_every_job_has_a_well_formed_record(self, quick):
         out, _ = quick
@@ -75,11 +82,11 @@ class TestQuickRun:
     def test_hippo_dry_run_is_counted(self, quick):
         out, _ = quick
         record = _records(out)["hippo__open__sparse__seed0"]
-        dry = se.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
+        dry = jobs.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
         learn = record["learn"]
         assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per day
         assert learn["env_steps_total"] >= 2 * dry + sum(learn["episodes"]["steps"])
-        reps = se.replicates(learn)
+        reps = metrics.replicates(learn)
         assert [r.start[0] for r in reps] == [dry, dry]  # each day's first run starts after its dry run
 
     def test_summary_and_figures(self, quick):
@@ -98,17 +105,17 @@ class TestQuickRun:
         out, _ = quick
         files = sorted((out / "sample_efficiency").glob("*.json.gz"))
         before = {p: p.stat().st_mtime_ns for p in files}
-        se.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
+        cli.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
         assert {p: p.stat().st_mtime_ns for p in files} == before
 
     def test_a_record_made_with_other_defaults_is_rerun(self, quick):
         out, _ = quick
         path = out / "sample_efficiency" / "dqn__open__sparse__seed0.json.gz"
-        original = se.load_record(path)
-        stale = {**original, "agent_config": {**original["agent_config"], "gamma": 0.5}}  # as if a default had changed since
-        se.save_record(path, stale)
-        se.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
-        assert _strip(se.load_record(path)) == _strip(original)
+        original = jobs.load_record(path)
+        stale = dataclasses.replace(original, agent_config={**original.agent_config, "gamma": 0.5})  # as if a default had changed since
+        jobs.save_record(path, stale)
+        cli.main([*QUICK, "--agents", *AGENTS, "--out", str(out), "--no-aggregate"])
+        assert _strip(jobs.load_record(path).to_dict()) == _strip(original.to_dict())
 
 
 class PreparingAgent(RandomAgent):
@@ -135,30 +142,47 @@ class GoalSeeker(RandomAgent):
 
 
 def test_goal_switch_day():
-    job = se.Job("test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, days=1, runs=400, max_episode_steps=300)
-    record = se.run_job(job)
-    assert record["learn"]["direct_at"] == 0
-    switch = record["switch"]
+    job = jobs.Job("test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, days=1, runs=400, max_episode_steps=300)
+    record = jobs.run_job(job)
+    assert record.learn["direct_at"] == 0
+    switch = record.switch
     assert switch["env_steps_total"] == 600 and switch["prepare_steps"] == [0]
     assert math.dist(switch["episodes"]["goal"][0], switch["old_goal"]) >= 2.0  # the goal moved
-    assert switch["old_goal"] == record["learn"]["episodes"]["goal"][-1]
-    assert se.switch_cost(switch, window=10) == (0, 0)
+    assert switch["old_goal"] == record.learn["episodes"]["goal"][-1]
+    assert metrics.switch_cost(switch, window=10) == (0, 0)
 
 
 def test_pre_exploration_counts_for_any_agent():
-    job = se.Job("test_sample_efficiency:PreparingAgent", "open", 0, budget=0, switch_budget=0, days=2, runs=2, max_episode_steps=100)
-    record = se.run_job(job)
-    learn = record["learn"]
+    job = jobs.Job("test_sample_efficiency:PreparingAgent", "open", 0, budget=0, switch_budget=0, days=2, runs=2, max_episode_steps=100)
+    record = jobs.run_job(job)
+    learn = record.learn
     assert learn["prepare_steps"] == [123, 123]
     assert learn["env_steps_total"] == 246 + sum(learn["episodes"]["steps"])
 
 
+@needs_sb3
 def test_ray_and_local_pool_give_the_same_records(quick, tmp_path):
     ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e .[ray]")
     out, _ = quick
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
-        se.main([*QUICK, "--agents", "dqn", "ppo", "--mazes", "open", "--dense-seeds", "0", "--engine", "ray", "--out", str(tmp_path), "--no-aggregate"])
+        cli.main(
+            [
+                *QUICK,
+                "--agents",
+                "dqn",
+                "ppo",
+                "--mazes",
+                "open",
+                "--dense-seeds",
+                "0",
+                "--engine",
+                "ray",
+                "--out",
+                str(tmp_path),
+                "--no-aggregate",
+            ]
+        )
     finally:
         ray.shutdown()
     local, remote = _records(out), _records(tmp_path)
@@ -171,7 +195,7 @@ def test_ray_and_local_pool_give_the_same_records(quick, tmp_path):
 def _rep(steps, success, indirectness, offset=0):
     steps = np.asarray(steps, float)
     end = offset + np.cumsum(steps)
-    return se.Replicate(end - steps, end, np.asarray(success, bool), np.asarray(indirectness, float))
+    return metrics.Replicate(end - steps, end, np.asarray(success, bool), np.asarray(indirectness, float))
 
 
 class TestAnalysis:
@@ -180,50 +204,50 @@ class TestAnalysis:
         # already has 9/10 successes and a median of 0.2, but the run in progress is a failure:
         # direct from the first direct run on.
         rep = _rep([1000, 1000, 1000] + [40] * 20, [False] * 3 + [True] * 20, [50.0] * 3 + [0.2] * 20)
-        assert not se.direct_at(rep, 2000, window=10)
-        assert se.direct_at(rep, 3000, window=10)
-        assert se.steps_to_criterion([rep], window=10) == 3000
+        assert not metrics.direct_at(rep, 2000, window=10)
+        assert metrics.direct_at(rep, 3000, window=10)
+        assert metrics.steps_to_criterion([rep], window=10) == 3000
 
     def test_the_curve_looks_no_further_than_the_run_in_progress(self):
         # the same learner: at 3000 steps its 4th run is under way (too few runs for a point); during
         # its 10th run, its latest 10 are the 3 failures and 7 direct successes
         rep = _rep([1000, 1000, 1000] + [40] * 20, [False] * 3 + [True] * 20, [50.0] * 3 + [0.2] * 20)
-        assert all(math.isnan(v) for v in se.metrics_at([rep], 3000, window=10))
-        assert se.metrics_at([rep], 3000 + 6 * 40 + 1, window=10) == (0.7, 0.2)
+        assert all(math.isnan(v) for v in metrics.metrics_at([rep], 3000, window=10))
+        assert metrics.metrics_at([rep], 3000 + 6 * 40 + 1, window=10) == (0.7, 0.2)
 
     def test_the_run_in_progress_counts(self):
         # hippo-like days: a dry run, one exploring run, then direct runs. A day is not direct before its
         # run 2 starts (day d: at 2500 + 100 d); the seed's figure is the median over its 10 days.
         days = [_rep([2000 + 100 * d] + [40] * 40, [True] * 41, [20.0] + [0.1] * 40, offset=500) for d in range(10)]
-        assert [se.replicate_steps_to_criterion(d, window=10) for d in days] == [2500.0 + 100 * d for d in range(10)]
-        assert se.steps_to_criterion(days, window=10) == 2950.0
+        assert [metrics.replicate_steps_to_criterion(d, window=10) for d in days] == [2500.0 + 100 * d for d in range(10)]
+        assert metrics.steps_to_criterion(days, window=10) == 2950.0
         same = [days[0]] * 10  # run 1 ends at 2500, then a run every 40 steps
-        ok, ind, running = se.recent_at(same, 1000, window=10)  # the dry run or run 1 under way
+        ok, ind, running = metrics.recent_at(same, 1000, window=10)  # the dry run or run 1 under way
         assert running == 10 and ok.size == 10 and np.all(ind == 20.0)
-        ok, ind, _ = se.recent_at(same, 2500 + 4 * 40, window=10)
+        ok, ind, _ = metrics.recent_at(same, 2500 + 4 * 40, window=10)
         assert ok.size == 60 and np.sum(ind == 20.0) == 10  # run 1, 4 more done, the 6th in progress
-        ok, ind, _ = se.recent_at(same, 2500 + 20 * 40, window=10)
+        ok, ind, _ = metrics.recent_at(same, 2500 + 20 * 40, window=10)
         assert ok.size == 100 and np.all(ind == 0.1)  # run 1 has left every day's window of 10
 
     def test_seeds_whose_days_are_mostly_never_direct_never_are(self):
         direct_day = _rep([1000] + [40] * 20, [True] * 21, [20.0] + [0.1] * 20)
         wandering_day = _rep([1000] * 21, [True] * 21, [20.0] * 21)
-        assert se.steps_to_criterion([direct_day] * 2 + [wandering_day] * 3, window=10) is None
-        assert se.steps_to_criterion([direct_day] * 3 + [wandering_day] * 2, window=10) == 1000.0
+        assert metrics.steps_to_criterion([direct_day] * 2 + [wandering_day] * 3, window=10) is None
+        assert metrics.steps_to_criterion([direct_day] * 3 + [wandering_day] * 2, window=10) == 1000.0
 
     def test_no_measurement_once_most_replicates_have_ended(self):
         # 4 fast days end at 1000 steps, 1 slow day runs on: past 1000 only the slow day is left
         days = [_rep([500, 500], [True, True], [0.5, 0.5]) for _ in range(4)] + [_rep([500] + [2000] * 5, [True] * 6, [0.5] + [30.0] * 5)]
-        assert se.metrics_at(days, 600, window=1) == (1.0, 0.5)
-        assert all(math.isnan(v) for v in se.metrics_at(days, 1500, window=1))
+        assert metrics.metrics_at(days, 600, window=1) == (1.0, 0.5)
+        assert all(math.isnan(v) for v in metrics.metrics_at(days, 1500, window=1))
 
     def test_never_direct(self):
         rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
-        assert se.steps_to_criterion([rep], window=10) is None
-        cell = se.summarize_steps([None, None, 5000.0], budget=300_000)
+        assert metrics.steps_to_criterion([rep], window=10) is None
+        cell = summary.summarize_steps([None, None, 5000.0], budget=300_000)
         assert cell["median_steps"] is None and cell["reached"] == 1
-        assert se.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
-        assert se.ratio(cell, {"median_steps": 6000.0}) == "> 50"
+        assert report.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
+        assert summary.ratio(cell, {"median_steps": 6000.0}) == "> 50"
 
     def test_no_ratio_when_the_hippo_is_never_direct(self):
         never = {"median_steps": None, "reached": 1, "seeds": 5, "budget": None, "ratio_to_hippo": None}
@@ -232,31 +256,31 @@ class TestAnalysis:
             "mazes": ["maze1"],
             "headline": [{"agent": "hippo", "privileged": False, "maze1": never}, {"agent": "dqn", "privileged": False, "maze1": reached}],
         }
-        table = se.headline_markdown(summary).splitlines()
+        table = report.headline_markdown(summary).splitlines()
         assert table[2] == "| hippo | never (1/5) | n/a |"
         assert table[3] == "| dqn | 1,000 (3/5) | n/a |"
 
     def test_median_over_seeds_counts_the_censored_ones(self):
-        cell = se.summarize_steps([1000.0, None, 3000.0], budget=10_000)
+        cell = summary.summarize_steps([1000.0, None, 3000.0], budget=10_000)
         assert cell["median_steps"] == 3000.0  # [1000, 3000, inf]
 
     def test_iqm_interval(self):
         values = np.array([1.0, 2.0, 3.0, 4.0, 100.0])
-        point, low, high = se.iqm_ci([values])
+        point, low, high = metrics.iqm_ci([values])
         assert point == pytest.approx(3.0) and low <= point <= high
-        p2, l2, h2 = se.iqm_ci([values, values + 1])  # two strata
+        p2, l2, h2 = metrics.iqm_ci([values, values + 1])  # two strata
         assert l2 <= p2 <= h2
-        point, low, high = se.iqm_ci([np.array([np.nan, 1.0])])  # one seed: a point, no interval
+        point, low, high = metrics.iqm_ci([np.array([np.nan, 1.0])])  # one seed: a point, no interval
         assert point == 1.0 and math.isnan(low) and math.isnan(high)
-        assert all(math.isnan(v) for v in se.iqm_ci([np.array([np.nan])]))
+        assert all(math.isnan(v) for v in metrics.iqm_ci([np.array([np.nan])]))
 
     def test_switch_cost(self):
         # an exploring first run, then direct ones: one episode (and its steps) to be direct again
         phase = {"trials": 1, "prepare_steps": [0], "episodes": {"trial": [0] * 12, "steps": [900] + [40] * 11,
                  "success": [True] * 12, "indirectness": [25.0] + [0.3] * 11}}  # fmt: skip
-        assert se.switch_cost(phase, window=10) == (1, 900)
+        assert metrics.switch_cost(phase, window=10) == (1, 900)
 
 
 def test_bad_engine_is_refused():
     with pytest.raises(SystemExit):
-        se.parse_args(["--engine", "dask"])
+        cli.parse_args(["--engine", "dask"])

@@ -27,7 +27,9 @@ def test_readme_sb3_example_runs(tmp_path, monkeypatch, capsys):
     shortened = shortened.replace("max_episode_steps=500", "max_episode_steps=40")
     # One short rollout and one epoch instead of PPO's 2048-step rollouts and 10 epochs.
     shortened = shortened.replace("seed=0, verbose=0)", "seed=0, verbose=0, n_steps=128, batch_size=64, n_epochs=1)")
-    assert shortened.count("256") == 1 and "eval_freq=128" in shortened and "max_episode_steps=40" in shortened and "n_steps=128" in shortened
+    assert (
+        shortened.count("256") == 1 and "eval_freq=128" in shortened and "max_episode_steps=40" in shortened and "n_steps=128" in shortened
+    )
     monkeypatch.chdir(tmp_path)
     exec(compile(shortened, "README.md", "exec"), {"__name__": "readme"})  # noqa: S102 (the README example, as printed)
     assert "success rate, last evaluation:" in capsys.readouterr().out
@@ -71,6 +73,8 @@ def test_without_goal_arguments_nothing_changes():
     a = gym.make("HippoMaze-v0", maze="maze1", n_rays=8)
     b = gym.make("HippoMaze-v0", maze="maze1", n_rays=8)
     assert not np.array_equal(a.reset(seed=0)[1]["goal"], b.reset(seed=1)[1]["goal"])
-    np.testing.assert_array_equal(a.reset(seed=0, options={"new_goal": True})[1]["goal"], b.reset(seed=0, options={"new_goal": True})[1]["goal"])
+    np.testing.assert_array_equal(
+        a.reset(seed=0, options={"new_goal": True})[1]["goal"], b.reset(seed=0, options={"new_goal": True})[1]["goal"]
+    )
     a.close()
     b.close()

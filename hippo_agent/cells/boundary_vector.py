@@ -31,7 +31,7 @@ class BoundaryVectorCells:
     by shifting ray indices by the heading, rounded to the nearest ray (at most half a ray,
     0.25 deg at 720 rays).
 
-    Args:
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.bvc_kwargs`):
         n_rays: rays per scan.
         max_range: the rangefinder's maximum range (m).
         n_directions: preferred directions.
@@ -50,16 +50,17 @@ class BoundaryVectorCells:
         self,
         n_rays: int,
         max_range: float,
-        n_directions: int = 8,
-        n_distances: int = 50,
-        max_distance: float | None = None,
-        sigma_r: float = 0.5,
-        distance_scaled: bool = False,
-        beta: float = 1.83,
-        sigma_theta: float = math.radians(1.0),
-        angular_cutoff: float = 3.0,
-        peak_rate: float = 0.5,
-        ignore_max_range: bool = True,
+        *,
+        n_directions: int,
+        n_distances: int,
+        max_distance: float | None,
+        sigma_r: float,
+        distance_scaled: bool,
+        beta: float,
+        sigma_theta: float,
+        angular_cutoff: float,
+        peak_rate: float,
+        ignore_max_range: bool,
     ) -> None:
         if n_rays < 1:
             raise ValueError(f"n_rays={n_rays} is invalid; allowed: an integer >= 1")
@@ -84,7 +85,7 @@ class BoundaryVectorCells:
 
         # Angular weights per direction, precomputed on the ray grid.
         dtheta = 2.0 * np.pi / self.n_rays
-        half = int(math.floor(angular_cutoff * sigma_theta / dtheta))
+        half = math.floor(angular_cutoff * sigma_theta / dtheta)
         half = min(half, (self.n_rays - 1) // 2)  # never count a ray twice
         offsets = np.arange(-half, half + 1)
         centre = np.rint(self.directions / dtheta).astype(np.int64)  # (D,)
@@ -118,9 +119,7 @@ class BoundaryVectorCells:
         Returns an array of shape ``(n_directions * n_distances,)``.
         """
         if ranges.shape != (self.n_rays,):
-            raise ValueError(
-                f"ranges has shape {ranges.shape}; expected ({self.n_rays},) as set by n_rays"
-            )
+            raise ValueError(f"ranges has shape {ranges.shape}; expected ({self.n_rays},) as set by n_rays")
         # allocentric ray j is egocentric ray j - shift (the scan rolled by the heading)
         idx = self._alloc_idx - self.heading_shift(heading)
         np.mod(idx, self.n_rays, out=idx)

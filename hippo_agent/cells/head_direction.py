@@ -19,7 +19,7 @@ class HeadDirectionCells:
         n: number of cells (even).
     """
 
-    def __init__(self, n: int = 8) -> None:
+    def __init__(self, n: int) -> None:
         if n < 1:
             raise ValueError(f"n={n} head-direction cells is invalid; allowed: an integer >= 1")
         self.n = int(n)

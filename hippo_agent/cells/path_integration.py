@@ -23,7 +23,7 @@ all of them is not. That vote
 - *corrects* it on every later step, so odometry noise never accumulates: samples spread by the
   odometry's noise and are re-weighted by the vote.
 
-Args:
+Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.path_integrator_kwargs`):
     n_particles: number of samples.
     rng: the agent's generator.
     motion_noise: spread added to each sample per step, as a fraction of the distance moved,
@@ -36,7 +36,6 @@ Args:
         so the vote is compared with where each sample was that many steps ago (``lag`` times the
         last step back), and cells learn their centres there too (:meth:`lagged_estimate`).
         Without it the vote pulls the estimate back along the path and the centres drift with it.
-    min_mapped: see :meth:`PathIntegrator.correct`.
 """
 
 from __future__ import annotations
@@ -46,6 +45,7 @@ import numpy as np
 __all__ = ["PathIntegrator"]
 
 VOTE_FLOOR = 1e-3  # likelihood of a sample far from every voted centre (never exactly 0)
+MIN_MAPPED = 0.8  # see PathIntegrator.correct
 
 
 class PathIntegrator:
@@ -62,8 +62,7 @@ class PathIntegrator:
         anchor_radius: float,
         anchor_weight: float,
         redraw_fraction: float,
-        lag: float = 0.0,
-        min_mapped: float = 0.8,
+        lag: float,
     ) -> None:
         self.n_particles = int(n_particles)
         self.rng = rng
@@ -81,7 +80,7 @@ class PathIntegrator:
         self.anchored = False
         self.fresh = False  # kidnapped and no sample drawn from the vote yet
         self.lag = float(lag)
-        self.min_mapped = float(min_mapped)
+        self.min_mapped = MIN_MAPPED
         self.last_step = np.zeros(2)
 
     def start_run(self) -> None:

@@ -20,11 +20,11 @@ class PlaceCells:
     place cell ``j`` to ``i`` on the branch for direction ``k``), zero at the start (eq. 7).
 
     ``W^pp`` is stored compactly: only cells that have taken part in eq. 7 (been active or traced
-    on a learning step; about 40 % of cells ever fire) get a *slot*, and the weights live in a
-    dense float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
+    on a learning step; many cells never fire) get a *slot*, and the weights live in a dense
+    float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
     doubling. Every other entry of the full tensor is exactly zero, so this is the full tensor,
-    not an approximation: about 5 MB instead of 32 MB at 1000 cells, and ~80 MB instead of 512 MB
-    at 4000. Pre-synaptic-first storage makes everything the few active cells drive (preplay,
+    not an approximation, and its memory grows with the cells that learn rather than with N^2
+    (the README's speed section has the figures). Pre-synaptic-first storage makes everything the few active cells drive (preplay,
     replay) one contiguous row gather. :meth:`W_pp_slice` gives the paper's ``W^pp_k`` as a full
     ``(i, j)`` matrix and :attr:`W_pp` the full ``(j, k, i)`` tensor (copies, for analysis).
 
@@ -41,7 +41,7 @@ class PlaceCells:
     used by replay, ``max_k W^pp_{kij} = max_k |W^pp_{kij}|``, is therefore symmetric, and replay
     spreads both ways along a path. This is the paper's model as written; we keep it.
 
-    Args:
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.place_kwargs`):
         n: number of place cells.
         n_bvc: number of BVC inputs.
         n_hd: number of head-direction cells (``W_pp`` slices).
@@ -60,17 +60,17 @@ class PlaceCells:
         n_hd: int,
         rng: np.random.Generator,
         *,
-        k: float = 0.5,
-        Gamma_pb: float = 0.3,
-        Gamma_pp: float = 0.5,
-        psi: float = 1.0,
-        p_pb: float = 0.2,
-        eta_pb: float = 0.096,
-        alpha_pb: float = float(np.sqrt(0.5)),
-        trace_rate: float = 0.3,
-        hd_trace_rate: float = 1.0,
-        trace_floor: float = 1e-3,
-        eta_pp: float = 1.0,
+        k: float,
+        Gamma_pb: float,
+        Gamma_pp: float,
+        psi: float,
+        p_pb: float,
+        eta_pb: float,
+        alpha_pb: float,
+        trace_rate: float,
+        hd_trace_rate: float,
+        trace_floor: float,
+        eta_pp: float,
     ) -> None:
         self.n, self.n_bvc, self.n_hd = int(n), int(n_bvc), int(n_hd)
         self.k, self.Gamma_pb, self.Gamma_pp, self.psi = k, Gamma_pb, Gamma_pp, psi
@@ -116,8 +116,9 @@ class PlaceCells:
         # machine made the 4000 x 400 product 30x slower than one thread; 1000 cells is one block
         return np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
 
-    def _advance(self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float,
-                 extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def _advance(
+        self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float, extra: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """One eq.-3/4 update given ``W_pb b``, ``sum(b)`` and an optional extra input (path integration)."""
         drive = Wb - (self.Gamma_pb * b_sum + self.Gamma_pp * v.sum())
         if extra is not None:
@@ -289,12 +290,14 @@ class PlaceCells:
         """Restore the compact ``W_pp`` (as saved: the cells holding slots and their block)."""
         slot_cells = np.asarray(slot_cells, dtype=np.int64)
         m = slot_cells.size
-        if (slot_cells.ndim != 1 or W_slots.shape != (m, self.n_hd, m)
-                or (m and (slot_cells.min() < 0 or slot_cells.max() >= self.n))
-                or np.unique(slot_cells).size != m):
+        if (
+            slot_cells.ndim != 1
+            or W_slots.shape != (m, self.n_hd, m)
+            or (m and (slot_cells.min() < 0 or slot_cells.max() >= self.n))
+            or np.unique(slot_cells).size != m
+        ):
             raise ValueError(
-                f"W_pp slots {W_slots.shape} for {slot_cells.shape} cells do not fit {self.n} cells "
-                f"and {self.n_hd} directions"
+                f"W_pp slots {W_slots.shape} for {slot_cells.shape} cells do not fit {self.n} cells and {self.n_hd} directions"
             )
         self.slot = np.full(self.n, -1, dtype=np.int64)
         self.slot[slot_cells] = np.arange(m)

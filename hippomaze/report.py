@@ -12,15 +12,15 @@ from typing import Any
 import numpy as np
 
 from hippo_agent.plots import plot_trajectories
+from hippo_env.dmtp import DMTPResult
 from hippo_env.maze import MazeSpec
-from hippo_env.protocol import DMTPResult
 
 
 def plot_indirectness(result: DMTPResult, ax: Any = None, title: str | None = None) -> tuple[Any, Any]:
     """Box plots of indirectness per run (the paper's Fig. 6), every trial as a dot; failures hollow."""
     import matplotlib.pyplot as plt
 
-    fig, ax = (plt.subplots(figsize=(5, 4)) if ax is None else (ax.figure, ax))
+    fig, ax = plt.subplots(figsize=(5, 4)) if ax is None else (ax.figure, ax)
     table, ok = result.indirectness(), result.success()
     runs = np.arange(1, result.runs + 1)
     data = [table[:, r][np.isfinite(table[:, r])] for r in range(result.runs)]
@@ -30,7 +30,9 @@ def plot_indirectness(result: DMTPResult, ax: Any = None, title: str | None = No
     for r in range(result.runs):
         ax.scatter(runs[r] + jitter[ok[:, r]], table[ok[:, r], r], s=12, color="tab:blue", zorder=3)
         if (~ok[:, r]).any():
-            ax.scatter(runs[r] + jitter[~ok[:, r]], table[~ok[:, r], r], s=12, facecolor="none", edgecolor="tab:red", zorder=3, label=failed_label)
+            ax.scatter(
+                runs[r] + jitter[~ok[:, r]], table[~ok[:, r], r], s=12, facecolor="none", edgecolor="tab:red", zorder=3, label=failed_label
+            )
             failed_label = None  # one legend entry
     ax.set_yscale("symlog", linthresh=1.0)
     ax.axhline(1.0, color="grey", linestyle=":", linewidth=1)
@@ -46,7 +48,7 @@ def plot_length_vs_indirectness(result: DMTPResult, ax: Any = None) -> tuple[Any
     """Run 1's path length against run 2's indirectness, with the Pearson r (the paper's Fig. 7)."""
     import matplotlib.pyplot as plt
 
-    fig, ax = (plt.subplots(figsize=(5, 4)) if ax is None else (ax.figure, ax))
+    fig, ax = plt.subplots(figsize=(5, 4)) if ax is None else (ax.figure, ax)
     lengths = np.full(result.trials, np.nan)
     second = np.full(result.trials, np.nan)
     for e in result.episodes:
@@ -121,9 +123,13 @@ def format_table(result: DMTPResult) -> str:
     lines.append("reached" + " ".join(f"{rate:>9.0%}" for rate in summary["success_rate"]))
     if "later_runs_below_1" in summary:
         later = "run 2" if result.runs == 2 else f"runs 2-{result.runs}"
-        lines.append(f"{later}: {summary['later_runs_success_rate']:.0%} reached the goal, {summary['later_runs_below_1']:.0%} with indirectness < 1")
+        lines.append(
+            f"{later}: {summary['later_runs_success_rate']:.0%} reached the goal, {summary['later_runs_below_1']:.0%} with indirectness < 1"
+        )
     if "pearson_run1_length_run2_indirectness" in summary:
-        lines.append(f"Pearson r, run 1 path length vs run 2 indirectness: {summary['pearson_run1_length_run2_indirectness']:.2f} (paper: -0.53)")
+        lines.append(
+            f"Pearson r, run 1 path length vs run 2 indirectness: {summary['pearson_run1_length_run2_indirectness']:.2f} (paper: -0.53)"
+        )
     lines.append(f"environment steps, pre-exploration included: {result.env_steps_total:,}")
     return "\n".join(lines)
 

@@ -1,62 +1,29 @@
-"""The Agent protocol every hippomaze agent follows, and the DMTP runner.
+"""The delayed-match-to-place (DMTP) experiment: the runner, its records, and the act -> step ->
+observe loop every agent is driven by.
 
-An agent is any object with these methods (structural typing: no base class needed)::
-
-    class MyAgent:
-        def __init__(self, observation_space, action_space, seed=None): ...
-        def reset(self, observation, info) -> None: ...   # a run (episode) begins
-        def act(self, observation): ...                   # an action from env.action_space
-        def observe(self, action, observation, reward, terminated, truncated, info) -> None: ...
-        # optional:
-        def prepare(self, env) -> None: ...               # pre-exploration, with no goal
-        def start_trial(self, trial: int) -> None: ...    # a new DMTP day: the goal has moved
-
-``prepare`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
-terminates) and may step and reset it as often as it likes; every one of those steps counts
-in ``env_steps_total``. An agent that claims to navigate from its senses reads, of ``info``, only
-``is_success``, ``collision``, ``heading`` and ``sim_time``; not ``position``, ``goal``,
-``path_length``, ``shortest_path_length`` or ``indirectness``. The runner does not hide them,
-so that privileged reference agents can be written too (label them so). An agent class whose
-constructor has no ``seed`` keyword is built as ``MyAgent(observation_space, action_space)``.
-
-:func:`run_dmtp` runs the delayed-match-to-place protocol: ``trials`` days, each with a new
-goal, of ``runs`` runs each. Goals and starts are drawn by the runner from its own seeded
-generator, so every agent given the same seed faces exactly the same goals and starts.
+:func:`run_dmtp` runs ``trials`` days, each with a new goal, of ``runs`` runs each, with any agent
+that follows the Agent protocol (:mod:`hippo_env.agent_protocol`). Goals and starts are drawn by
+the runner from its own seeded generator, so every agent given the same seed faces exactly the
+same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent.
 """
 
 from __future__ import annotations
 
-import importlib
 import io
 import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
+from hippo_env.agent_protocol import AgentFactory, missing_methods
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
-from hippo_env.files import atomic_write, write_json
+from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
-
-REQUIRED_METHODS = ("reset", "act", "observe")
-
-
-@runtime_checkable
-class Agent(Protocol):
-    """What the runner calls. ``prepare`` and ``start_trial`` are optional (see the module doc)."""
-
-    def reset(self, observation: Any, info: dict[str, Any]) -> None: ...
-
-    def act(self, observation: Any) -> Any: ...
-
-    def observe(self, action: Any, observation: Any, reward: float, terminated: bool, truncated: bool, info: dict[str, Any]) -> None: ...
-
-
-AgentFactory = Callable[[gym.spaces.Space, gym.spaces.Space, int], Any]
 
 
 @dataclass
@@ -109,7 +76,7 @@ class DMTPResult:
         }
         if not self.complete:
             record["complete"] = False
-        record["episodes"] = [_json_safe(asdict(e)) for e in self.episodes]
+        record["episodes"] = [jsonable(asdict(e)) for e in self.episodes]
         return record
 
     def save(self, out_dir: str | Path) -> Path:
@@ -143,7 +110,9 @@ class DMTPResult:
             lengths[e.trial, e.run] = e.path_length
         later = ind[:, 1:]
         summary: dict[str, Any] = {
-            "median_indirectness": [_nan_to_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)],
+            "median_indirectness": [
+                finite_or_none(float(np.nanmedian(ind[:, r]))) if np.isfinite(ind[:, r]).any() else None for r in range(self.runs)
+            ],
             "success_rate": [float(ok[:, r].mean()) for r in range(self.runs)],
         }
         if self.runs > 1:
@@ -154,22 +123,35 @@ class DMTPResult:
         return summary
 
 
-def load_agent_class(spec: str) -> type:
-    """Import ``module:Class`` (e.g. ``mypkg.agents:GreedyAgent``) and check it follows the protocol."""
-    if ":" not in spec:
-        raise ValueError(f"agent {spec!r} is unknown; give hippo, random, dqn, ppo, or module:Class for your own")
-    module_name, _, class_name = spec.partition(":")
-    try:
-        module = importlib.import_module(module_name)
-    except ImportError as err:
-        raise ValueError(f"agent {spec!r}: cannot import module {module_name!r} ({err})") from err
-    cls = getattr(module, class_name, None)
-    if cls is None:
-        raise ValueError(f"agent {spec!r}: module {module_name!r} has no attribute {class_name!r}")
-    missing = [m for m in REQUIRED_METHODS if not callable(getattr(cls, m, None))]
-    if missing:
-        raise ValueError(f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.protocol)")
-    return cls
+@dataclass
+class RolloutEnd:
+    """How a :func:`rollout` ended: the last step's outcome and the number of steps taken."""
+
+    observation: Any
+    reward: float
+    terminated: bool
+    truncated: bool
+    info: dict[str, Any]
+    steps: int
+
+
+def rollout(
+    env: gym.Env, agent: Any, observation: Any, *, max_steps: int | None = None, keep_going: Callable[[], bool] | None = None
+) -> RolloutEnd:
+    """Drive ``agent`` from ``observation``: ``act``, ``env.step``, ``observe``, until the episode
+    ends, ``max_steps`` steps were taken, or ``keep_going()`` (asked after each step) is False.
+
+    The caller resets the env and the agent first. With ``max_steps=0`` nothing happens.
+    """
+    reward, terminated, truncated, info, steps = 0.0, False, False, {}, 0
+    while max_steps is None or steps < max_steps:
+        action = agent.act(observation)
+        observation, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, observation, reward, terminated, truncated, info)
+        steps += 1
+        if terminated or truncated or (keep_going is not None and not keep_going()):
+            break
+    return RolloutEnd(observation, float(reward), bool(terminated), bool(truncated), info, steps)
 
 
 class _CountingEnv(gym.Wrapper):
@@ -278,14 +260,10 @@ def run_dmtp(
                 observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
                 agent.reset(observation, info)
                 steps_before = counted.steps
-                while True:
-                    action = agent.act(observation)
-                    observation, reward, terminated, truncated, info = counted.step(action)
-                    agent.observe(action, observation, reward, terminated, truncated, info)
-                    if terminated or truncated or not budget_left():
-                        break
-                if not (terminated or truncated):
+                end = rollout(counted, agent, observation, keep_going=budget_left)
+                if not (end.terminated or end.truncated):
                     break  # cut short by the step budget: not a run
+                info = end.info
                 trial_paths.append(env.unwrapped.path.copy())
                 result.episodes.append(
                     Episode(
@@ -338,9 +316,11 @@ class DMTPInterrupted(KeyboardInterrupt):
 
 
 def _check_agent(agent: Any) -> None:
-    missing = [m for m in REQUIRED_METHODS if not callable(getattr(agent, m, None))]
+    missing = missing_methods(agent)
     if missing:
-        raise TypeError(f"{type(agent).__name__} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.protocol)")
+        raise TypeError(
+            f"{type(agent).__name__} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)"
+        )
 
 
 def _progress(total: int, description: str, enabled: bool):
@@ -351,13 +331,4 @@ def _progress(total: int, description: str, enabled: bool):
     return tqdm(total=total, desc=description, unit="run")
 
 
-def _nan_to_none(value: float) -> float | None:
-    return None if not math.isfinite(value) else value
-
-
-def _json_safe(record: dict[str, Any]) -> dict[str, Any]:
-    """NaN and infinity are not JSON: write them as null."""
-    return {k: (_nan_to_none(v) if isinstance(v, float) else v) for k, v in record.items()}
-
-
-__all__ = ["Agent", "DMTPInterrupted", "DMTPResult", "Episode", "load_agent_class", "run_dmtp"]
+__all__ = ["DMTPInterrupted", "DMTPResult", "Episode", "RolloutEnd", "rollout", "run_dmtp"]

@@ -17,6 +17,7 @@ import numpy as np
 
 from hippo_env.env import ACTION_TYPES
 from hippo_env.files import write_json
+from hippo_env.physics import ROBOT_RADIUS
 
 # What `hippomaze dmtp` writes into its --out folder (cleared by --overwrite, nothing else is).
 DMTP_OUTPUTS = (
@@ -45,22 +46,34 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
     dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
     dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
-    dmtp.add_argument("--agent", default="hippo", help="hippo (the default model), hippo-paper (the paper's model), random, dqn, ppo, or module:Class (default: hippo)")
+    dmtp.add_argument(
+        "--agent",
+        default="hippo",
+        help="hippo (the default model), hippo-paper (the paper's model), random, dqn, ppo, or module:Class (default: hippo)",
+    )
     dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures, new or empty (default: out)")
-    dmtp.add_argument("--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there")
+    dmtp.add_argument(
+        "--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there"
+    )
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
     dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
     dmtp.add_argument("--action-type", default="discrete", choices=ACTION_TYPES, help="the action space (default: discrete)")
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    paper = commands.add_parser("paper", help="reproduce the paper's experiments and write REPORT.md", description=run_paper_command.__doc__)
+    paper = commands.add_parser(
+        "paper", help="reproduce the paper's experiments and write REPORT.md", description=run_paper_command.__doc__
+    )
     paper.add_argument("--out", default="paper_out", help="output folder (default: paper_out)")
     paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
     paper.add_argument("--seed", type=_seed, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
     paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
-    paper.add_argument("--model", default="paper", choices=("paper", "default"),
-                       help="paper: AgentConfig.paper(), the model as the paper describes it; default: AgentConfig(), with path integration (default: paper)")
+    paper.add_argument(
+        "--model",
+        default="paper",
+        choices=("paper", "default"),
+        help="paper: AgentConfig.paper(), the model as the paper describes it; default: AgentConfig(), with path integration (default: paper)",
+    )
 
     args = parser.parse_args(argv)
     try:
@@ -77,10 +90,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
     """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures."""
-    from baselines.registry import agent_factory
-    from hippo_agent.report import format_table, write_dmtp_figures
+    from hippo_env.dmtp import DMTPInterrupted, run_dmtp
     from hippo_env.maze import MazeSpec
-    from hippo_env.protocol import DMTPInterrupted, run_dmtp
+    from hippomaze.registry import agent_factory
+    from hippomaze.report import format_table, write_dmtp_figures
 
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
@@ -107,7 +120,7 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
         path = partial.save(out)
         print(
             f"hippomaze: interrupted; saved the {len(partial.episodes)} finished runs of {partial.trials * partial.runs} "
-            f"to {path} (marked \"complete\": false)",
+            f'to {path} (marked "complete": false)',
             file=sys.stderr,
         )
         return EXIT_INTERRUPTED
@@ -139,7 +152,9 @@ def prepare_out_dir(out: Path, overwrite: bool) -> Path:
         if not overwrite:
             found = sorted(p.name for p in out.iterdir())
             shown = ", ".join(found[:4]) + (", ..." if len(found) > 4 else "")
-            raise ValueError(f"--out {str(out)!r} is not empty ({shown}); give a new or empty folder, or add --overwrite to replace an earlier run's results")
+            raise ValueError(
+                f"--out {str(out)!r} is not empty ({shown}); give a new or empty folder, or add --overwrite to replace an earlier run's results"
+            )
         stale = sorted({p for pattern in DMTP_OUTPUTS for p in out.glob(pattern) if p.is_file()})
         for p in stale:
             p.unlink()
@@ -197,7 +212,7 @@ def _write_agent_maps(maps: dict[str, Any], result: Any, maze: Any, out: Path) -
             fig, axes = plt.subplots(2, (len(cells) + 1) // 2, figsize=(4 * ((len(cells) + 1) // 2), 7.6), squeeze=False)
             for ax, cell in zip(axes.ravel(), cells):
                 plot_place_field(positions, rates[:, cell], ax, maze=maze, title=f"place cell {cell}")
-            for ax in axes.ravel()[len(cells):]:
+            for ax in axes.ravel()[len(cells) :]:
                 ax.set_visible(False)
             fig.tight_layout()
             fig.savefig(out / "place_fields.png", dpi=100)
@@ -226,7 +241,7 @@ def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
     from hippo_agent.plots import grid_positions
 
     grid = grid_positions(maze.size, spacing=spacing)
-    grid = grid[[maze.clearance(p) >= 0.17 for p in grid]]
+    grid = grid[maze.free_mask(grid, ROBOT_RADIUS)]
     if len(grid) > MAX_MAP_POSITIONS:
         grid = grid[np.linspace(0, len(grid) - 1, MAX_MAP_POSITIONS).astype(int)]
     return grid
@@ -244,12 +259,10 @@ def _seed(text: str) -> int:
 
 
 def run_paper_command(args: argparse.Namespace) -> int:
-    """Reproduce the paper's experiments (see benchmarks/paper.py): the model's figures and tables, written
+    """Reproduce the paper's experiments (hippomaze.paper): the model's figures and tables, written
     with REPORT.md and paper.json into --out. --quick runs every experiment briefly (about a minute)."""
-    try:
-        from benchmarks.paper import PaperArgs, run_paper
-    except ImportError as err:
-        raise ValueError(f"the paper benchmark is not available in this installation ({err}); run from a checkout with `pip install -e .`") from err
+    from hippomaze.paper import PaperArgs, run_paper
+
     run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers, model=args.model))
     return 0
 

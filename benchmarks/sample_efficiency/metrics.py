@@ -1,0 +1,139 @@
+"""The measures of a job record: replicates, the curves' points, steps to criterion, goal-switch cost, IQM intervals."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass
+class Replicate:
+    """One agent life: its episodes' start and end steps (from the agent's creation), outcomes."""
+
+    start: np.ndarray
+    end: np.ndarray
+    success: np.ndarray
+    indirectness: np.ndarray
+
+
+def replicates(phase: dict[str, Any]) -> list[Replicate]:
+    """The replicates of a phase record: one per day, each day's agent being fresh (hippo) or the only one."""
+    ep = phase["episodes"]
+    trials = np.asarray(ep["trial"], int)
+    steps = np.asarray(ep["steps"], float)
+    success = np.asarray(ep["success"], bool)
+    ind = np.array([np.inf if v is None else v for v in ep["indirectness"]], float)
+    prepare = phase["prepare_steps"]
+    out = []
+    for t in range(len(prepare)):  # one entry per agent created: one per day
+        mask = trials == t
+        end = prepare[t] + np.cumsum(steps[mask])
+        out.append(Replicate(end - steps[mask], end, success[mask], ind[mask]))
+    return out
+
+
+MIN_POOL = 5  # fewer pooled episodes than this: no measurement (NaN)
+SWITCH_WINDOW = 10  # episodes: the window of "direct on the first goal" inside a job
+
+
+def recent_at(reps: list[Replicate], x: float, window: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """Each replicate's ``window`` latest episodes at step x: the one in progress (or next) and those before it.
+
+    A learning curve that looks no further than the run under way. Every replicate is measured
+    alike, by episodes: a learner's one day and each hippocampal day give the same statistic, and
+    a wandering run of thousands of steps counts once. A replicate whose runs are all done keeps
+    its last window. Returns successes, indirectness, and how many replicates are still running at x.
+    """
+    heads = [(r, int(np.searchsorted(r.end, x, side="right"))) for r in reps]  # the episode in progress at x
+    running = sum(i < r.end.size for r, i in heads)
+    heads = [(r, min(i, r.end.size - 1)) for r, i in heads if r.end.size]
+    if not heads:
+        return np.zeros(0, bool), np.zeros(0), running
+    ok = np.concatenate([r.success[max(i + 1 - window, 0) : i + 1] for r, i in heads])
+    ind = np.concatenate([r.indirectness[max(i + 1 - window, 0) : i + 1] for r, i in heads])
+    return ok, ind, running
+
+
+def metrics_at(reps: list[Replicate], x: float, window: int) -> tuple[float, float]:
+    """(success rate, median indirectness) of the latest episodes at x, the curves' point.
+
+    NaN when the pool holds fewer than MIN_POOL episodes, or fewer than half of the replicates are still
+    running: the days left late are the slow ones (wandering runs), and the curve would be theirs.
+    """
+    ok, ind, running = recent_at(reps, x, window)
+    if ok.size < min(MIN_POOL, window) or 2 * running < len(reps):
+        return math.nan, math.nan
+    return float(ok.mean()), float(np.median(ind))
+
+
+def direct_at(rep: Replicate, x: float, window: int) -> bool:
+    """One replicate is direct from x on: its episode in progress at x is a direct success, and so are the
+    ``window`` episodes from it on (>= 90 % successes, median indirectness <= 1).
+
+    Looking at the episode in progress keeps the window that looks ahead from hiding it (a
+    hippocampal day's exploring first run is not hidden by the direct runs after it).
+    """
+    head = int(np.searchsorted(rep.end, x, side="right"))
+    ok, ind = rep.success[head : head + window], rep.indirectness[head : head + window]
+    if ok.size < min(MIN_POOL, window):
+        return False
+    return direct(float(ok.mean()), float(np.median(ind))) and direct(float(ok[0]), float(ind[0]))
+
+
+def direct(success: float, indirectness: float) -> bool:
+    return success >= 0.9 and indirectness <= 1.0
+
+
+def replicate_steps_to_criterion(rep: Replicate, window: int) -> float | None:
+    """The first episode start (steps since the agent's creation) at which the replicate is direct; None if never."""
+    for x in rep.start:
+        if direct_at(rep, x, window):
+            return float(x)
+    return None
+
+
+def steps_to_criterion(reps: list[Replicate], window: int) -> float | None:
+    """A seed's steps to criterion: the median over its replicates (hippo: its days), None if that is never."""
+    steps = [replicate_steps_to_criterion(r, window) for r in reps]
+    median = float(np.median([math.inf if s is None else s for s in steps]))
+    return median if math.isfinite(median) else None
+
+
+def switch_cost(phase: dict[str, Any], window: int) -> tuple[int | None, int | None]:
+    """(episodes, steps) of the switch day before it is direct again; (None, None) if it never is."""
+    (rep,) = replicates(phase)
+    for i in range(rep.end.size):
+        if direct_at(rep, rep.start[i], window):
+            return i, int(rep.start[i])
+    return None, None
+
+
+def iqm(values: np.ndarray, axis: int = -1) -> np.ndarray | float:
+    """Interquartile mean (rliable's IQM: the 25 % trimmed mean)."""
+    from scipy.stats import trim_mean
+
+    return trim_mean(values, 0.25, axis=axis)
+
+
+def iqm_ci(strata: list[np.ndarray], seed: int = 0) -> tuple[float, float, float]:
+    """IQM over all values and its 95 % stratified-bootstrap interval (percentile; strata resampled apart)."""
+    from scipy.stats import bootstrap
+
+    strata = [s[np.isfinite(s)] for s in strata]
+    strata = [s for s in strata if s.size]
+    if not strata:
+        return math.nan, math.nan, math.nan
+    point = float(iqm(np.concatenate(strata)))
+    if sum(s.size for s in strata) < 3:  # too few seeds for an interval
+        return point, math.nan, math.nan
+    samples = tuple(s for s in strata if s.size >= 2)
+    if not samples or all(np.ptp(s) == 0 for s in samples) and len({float(s[0]) for s in samples}) == 1:
+        return point, point, point
+    res = bootstrap(
+        samples, lambda *xs, axis=-1: iqm(np.concatenate(xs, axis=axis), axis=axis), n_resamples=2000, confidence_level=0.95,
+        method="percentile", vectorized=True, random_state=np.random.default_rng(seed),
+    )  # fmt: skip
+    return point, float(res.confidence_interval.low), float(res.confidence_interval.high)

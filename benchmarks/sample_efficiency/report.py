@@ -1,0 +1,56 @@
+"""The headline and goal-switch tables as Markdown."""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def fmt_steps(value: float | None, budget: int | None) -> str:
+    if value is None:
+        return f"> {budget:,}" if budget else "never"
+    return f"{value:,.0f}"
+
+
+def headline_markdown(summary: dict[str, Any]) -> str:
+    """The headline table as Markdown."""
+    mazes = summary["mazes"]
+    head = "| agent | " + " | ".join(f"{m}: steps to direct | {m}: x hippo" for m in mazes) + " |"
+    lines = [head, "|" + "---|" * (1 + 2 * len(mazes))]
+    for row in summary["headline"]:
+        name = row["agent"] + (" (privileged)" if row["privileged"] else "")
+        cells = []
+        for m in mazes:
+            cell = row.get(m)
+            if cell is None:
+                cells += ["", ""]
+                continue
+            steps = fmt_steps(cell["median_steps"], cell["budget"])
+            cells.append(f"{steps} ({cell['reached']}/{cell['seeds']})")
+            r = cell["ratio_to_hippo"]
+            if row["agent"] == "hippo":
+                cells.append("1" if cell["median_steps"] is not None else "n/a")
+            else:
+                cells.append("n/a" if r is None else (r if isinstance(r, str) else f"{r:g}"))
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def switch_markdown(summary: dict[str, Any]) -> str:
+    mazes = summary["mazes"]
+    lines = ["| agent | " + " | ".join(f"{m}: episodes | {m}: steps" for m in mazes) + " |", "|" + "---|" * (1 + 2 * len(mazes))]
+    for row in summary["headline"]:
+        name = row["agent"] + (" (privileged)" if row["privileged"] else "")
+        cells = []
+        for m in mazes:
+            cell = (row.get(m) or {}).get("switch")
+            if not cell:
+                cells += ["", ""]
+                continue
+            if cell["seeds"] == 0:
+                cells += ["n/a: never direct on the first goal", ""]
+                continue
+            e = "never" if cell["median_episodes"] is None else f"{cell['median_episodes']:g}"
+            cells.append(f"{e} ({cell['reached']}/{cell['seeds']})")
+            cells.append(fmt_steps(cell["median_steps"], cell["budget"]))
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)

@@ -1,0 +1,207 @@
+"""Agents by name: what ``hippomaze dmtp --agent A`` and the benchmarks build agents with.
+
+>>> from hippomaze.registry import agent_factory
+>>> make = agent_factory("dqn", learning_rate=1e-3)
+>>> agent = make(env.observation_space, env.action_space, seed=0)
+
+Every factory is an :class:`~hippo_env.agent_protocol.AgentFactory`:
+``factory(observation_space, action_space, seed=seed) -> agent``. Heavy imports (torch,
+stable-baselines3, the hippocampal model) happen only when a factory is called.
+
+Three ways to name an agent:
+
+- a built-in name (:data:`AGENT_NAMES`);
+- ``module:Class``, for any class that follows the Agent protocol (the current directory is on
+  the import path, as with ``python -m``);
+- a name another distribution registers in the ``hippomaze.agents`` entry-point group, e.g. in its
+  ``pyproject.toml``::
+
+      [project.entry-points."hippomaze.agents"]
+      greedy = "mypackage.agents:GreedyAgent"
+
+  after which ``hippomaze dmtp --agent greedy`` builds ``GreedyAgent``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+from dataclasses import fields, replace
+from importlib.metadata import entry_points
+from typing import Any
+
+import gymnasium as gym
+
+from hippo_env.agent_protocol import AgentFactory, missing_methods
+from hippo_env.files import unknown_fields
+
+#: The entry-point group third-party agents register under.
+ENTRY_POINT_GROUP = "hippomaze.agents"
+
+#: The built-in agent names. ``dynaq`` is PRIVILEGED (it reads the true position).
+AGENT_NAMES: tuple[str, ...] = ("hippo", "hippo-paper", "random", "dqn", "ppo", "dynaq")
+
+#: Agents that read ``info["position"]`` (shown as "privileged" in every table).
+PRIVILEGED: frozenset[str] = frozenset({"dynaq"})
+
+
+def _hippo(paper: bool = False, **overrides: Any) -> AgentFactory:
+    """The hippocampal agent: the default (improved) model, or with ``paper`` the paper's model
+    (``AgentConfig.paper()``). The factory's ``env_kwargs`` asks the runner for the odometry
+    sensor when the model path-integrates."""
+    try:
+        from hippo_agent import AgentConfig
+    except ImportError as err:
+        raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
+    unknown = unknown_fields(AgentConfig, overrides)
+    if unknown:
+        allowed = sorted(f.name for f in fields(AgentConfig))
+        raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
+    config = replace(AgentConfig.paper() if paper else AgentConfig(), **overrides)
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+        from hippo_agent import HippocampalAgent
+
+        return HippocampalAgent(observation_space, action_space, config=config, seed=seed)
+
+    make.env_kwargs = {"odometry": True} if config.path_integration else {}  # type: ignore[attr-defined]
+    return make
+
+
+def _random(**overrides: Any) -> AgentFactory:
+    if overrides:
+        raise ValueError(f"the random agent takes no parameters, got {', '.join(sorted(overrides))}")
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+        from hippomaze.baselines.random_agent import RandomAgent
+
+        return RandomAgent(observation_space, action_space, seed=seed)
+
+    return make
+
+
+def _sb3(name: str, **overrides: Any) -> AgentFactory:
+    from hippomaze.baselines.hyperparams import make_params
+
+    params = make_params(name, **overrides)  # check the names now, not at the first call
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+        from hippomaze.baselines.sb3_agents import DQNAgent, PPOAgent
+
+        cls = DQNAgent if name == "dqn" else PPOAgent
+        return cls(observation_space, action_space, seed=seed, params=params)
+
+    return make
+
+
+def _dynaq(**overrides: Any) -> AgentFactory:
+    from hippomaze.baselines.hyperparams import make_params
+
+    params = make_params("dynaq", **overrides)
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+        from hippomaze.baselines.dynaq import DynaQAgent
+
+        return DynaQAgent(observation_space, action_space, seed=seed, params=params)
+
+    return make
+
+
+def _takes_seed(name: str, cls: type, overrides: dict[str, Any]) -> bool:
+    """Whether ``cls(observation_space, action_space, seed=..., **overrides)`` fits its constructor.
+
+    A constructor without ``seed`` is accepted (the agent is then seeded only by what it does
+    itself); one that cannot take the two spaces is a one-line ``ValueError`` naming the expected signature.
+    """
+    try:
+        signature = inspect.signature(cls)
+    except (TypeError, ValueError):  # no introspectable signature: assume the documented one
+        return True
+    for with_seed in (True, False):
+        try:
+            signature.bind(None, None, **({"seed": 0} if with_seed else {}), **overrides)
+        except TypeError:
+            continue
+        return with_seed
+    extra = f", {', '.join(f'{k}=...' for k in overrides)}" if overrides else ""
+    raise ValueError(
+        f"agent {name!r}: {cls.__name__}{signature} cannot be built as {cls.__name__}(observation_space, action_space, seed=seed{extra}); "
+        "an agent class's constructor must be __init__(self, observation_space, action_space, seed=None)"
+    )
+
+
+def agent_factory(name: str, **overrides: Any) -> AgentFactory:
+    """A factory ``factory(observation_space, action_space, seed=seed) -> agent`` for the agent ``name``.
+
+    Args:
+        name: ``hippo`` (the default model), ``hippo-paper`` (``AgentConfig.paper()``), ``random``,
+            ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
+            a name registered in the ``hippomaze.agents`` entry-point group, or ``module:Class``
+            for any class following the Agent protocol (either built as
+            ``Class(observation_space, action_space, seed=seed, **overrides)``, or without
+            ``seed`` if its constructor takes none).
+        **overrides: Parameters to change: fields of ``hippo_agent.AgentConfig`` for ``hippo``, of
+            :mod:`hippomaze.baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
+
+    Raises:
+        ValueError: An unknown name (the message lists the allowed ones) or parameter, or a
+            ``module:Class`` whose constructor cannot take ``(observation_space, action_space)``.
+    """
+    if not isinstance(name, str):
+        raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")
+    if name in ("hippo", "hippo-paper"):
+        return _hippo(paper=name == "hippo-paper", **overrides)
+    if name == "random":
+        return _random(**overrides)
+    if name in ("dqn", "ppo"):
+        return _sb3(name, **overrides)
+    if name == "dynaq":
+        return _dynaq(**overrides)
+    registered = {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
+    if ":" in name or name in registered:
+        cls = load_agent_class(name) if ":" in name else _load_registered(name, registered[name])
+        takes_seed = _takes_seed(name, cls, overrides)
+
+        def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+            if takes_seed:
+                return cls(observation_space, action_space, seed=seed, **overrides)
+            return cls(observation_space, action_space, **overrides)
+
+        return make
+    hint = " (dense reward is an env setting: reward_type='dense', not an agent)" if name.endswith("-dense") else ""
+    others = f", one registered by an installed package ({', '.join(sorted(registered))})" if registered else ""
+    raise ValueError(f"agent {name!r} is unknown{hint}; choose one of {', '.join(AGENT_NAMES)}{others}, or module:Class for your own")
+
+
+def load_agent_class(spec: str) -> type:
+    """Import ``module:Class`` (e.g. ``mypkg.agents:GreedyAgent``) and check it follows the Agent protocol."""
+    if ":" not in spec:
+        raise ValueError(f"agent {spec!r} is unknown; give hippo, random, dqn, ppo, or module:Class for your own")
+    module_name, _, class_name = spec.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as err:
+        raise ValueError(f"agent {spec!r}: cannot import module {module_name!r} ({err})") from err
+    cls = getattr(module, class_name, None)
+    if cls is None:
+        raise ValueError(f"agent {spec!r}: module {module_name!r} has no attribute {class_name!r}")
+    return _checked(spec, cls)
+
+
+def _load_registered(name: str, entry_point: Any) -> type:
+    """The class an installed package registered as ``name`` in the ``hippomaze.agents`` group."""
+    try:
+        cls = entry_point.load()
+    except Exception as err:  # a broken third-party package: say which and why
+        raise ValueError(f"agent {name!r} (entry point {entry_point.value!r} in group {ENTRY_POINT_GROUP!r}) did not load: {err}") from err
+    return _checked(f"{name} ({entry_point.value})", cls)
+
+
+def _checked(spec: str, cls: Any) -> type:
+    missing = missing_methods(cls)
+    if missing:
+        raise ValueError(f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)")
+    return cls
+
+
+__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent_class"]

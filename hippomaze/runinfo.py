@@ -1,0 +1,65 @@
+"""What a recorded run says about itself: its command line from a dataclass (CleanRL style), the
+command that ran it, and the machine it ran on (a shared machine skews wall-clock rates)."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import platform
+import shlex
+import sys
+from pathlib import Path
+from typing import Any, TypeVar
+
+ArgsT = TypeVar("ArgsT")
+
+
+def cpu_model() -> str:
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return platform.processor()
+
+
+def load_average() -> list[float] | None:
+    return [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None
+
+
+def machine_info(**versions: str) -> dict[str, Any]:
+    """CPU, platform and Python, plus the given package versions."""
+    return {
+        "cpu_count": os.cpu_count(),
+        "cpus_usable": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
+        "cpu": cpu_model(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        **versions,
+    }
+
+
+def command_line(root: str | Path = ".") -> str:
+    """The command that ran this script, with the script's path relative to ``root``."""
+    script = Path(sys.argv[0])
+    shown = os.path.relpath(script, root) if script.is_absolute() else sys.argv[0]
+    return shlex.join(["python", shown, *sys.argv[1:]])
+
+
+def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None) -> ArgsT:
+    """A command line with one ``--flag`` per field of the dataclass ``cls`` (CleanRL style).
+
+    Tuples take several values; booleans get ``--flag/--no-flag``.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    for f in dataclasses.fields(cls):
+        default, flag = f.default, f"--{f.name.replace('_', '-')}"
+        if isinstance(default, bool):
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=default)
+        elif isinstance(default, tuple):
+            parser.add_argument(flag, nargs="+", type=type(default[0]) if default else str, default=default)
+        else:
+            parser.add_argument(flag, type=type(default), default=default)
+    values = vars(parser.parse_args(argv))
+    return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})

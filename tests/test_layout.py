@@ -1,0 +1,104 @@
+"""The package layout: what the wheel installs, which way imports point, and that importing runs nothing."""
+
+from __future__ import annotations
+
+import ast
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+
+# Imports point one way: a module may import its own layer and the layers before it.
+LAYERS = ("hippo_env", "hippo_agent", "baselines", "hippomaze", "benchmarks")
+# Where each layer's modules live, and the name they are imported by.
+SOURCES = {
+    "hippo_env": "hippo_env",
+    "hippo_agent": "hippo_agent",
+    "baselines": "hippomaze.baselines",
+    "hippomaze": "hippomaze",
+    "benchmarks": "benchmarks",
+}
+
+
+def _layer(module: str) -> str | None:
+    """The layer a module name belongs to (``None`` for anything outside the project)."""
+    if module == "hippomaze.baselines" or module.startswith("hippomaze.baselines.") or module.split(".")[0] == "baselines":
+        return "baselines"
+    top = module.split(".")[0]
+    return top if top in LAYERS else None
+
+
+def _modules() -> list[tuple[str, Path]]:
+    found = []
+    for folder, name in SOURCES.items():
+        for path in sorted((REPO / folder).rglob("*.py")):
+            parts = path.relative_to(REPO / folder).with_suffix("").parts
+            parts = parts[:-1] if parts[-1] == "__init__" else parts
+            found.append((".".join((name, *parts)), path))
+    return found
+
+
+def _imports(module: str, path: Path) -> set[str]:
+    """Every module ``path`` imports, lazy imports inside functions included, relative ones resolved."""
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                base = ".".join([*anchor, base] if base else anchor)
+            names.add(base)
+    return names
+
+
+def test_imports_point_one_way():
+    """hippo_env <- hippo_agent <- baselines <- hippomaze <- benchmarks: no arrow against that order, so no cycle."""
+    against = []
+    for module, path in _modules():
+        mine = LAYERS.index(_layer(module))
+        for imported in _imports(module, path):
+            layer = _layer(imported)
+            if layer is not None and LAYERS.index(layer) > mine:
+                against.append(f"{module} imports {imported} ({_layer(module)} -> {layer})")
+    assert not against, "imports against the layer order:\n" + "\n".join(against)
+
+
+def test_importing_runs_nothing():
+    """Importing any module parses no arguments, prints nothing and starts no experiment."""
+    modules = [m for m, _ in _modules() if not m.endswith("__main__")]
+    code = f"import importlib, sys\nsys.argv = ['x', '--no-such-flag']\nfor m in {modules!r}:\n    importlib.import_module(m)\n"
+    done = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout == "", done.stdout[-2000:]
+
+
+def test_wheel_installs_only_project_named_packages(tmp_path):
+    pytest.importorskip("setuptools")
+    source = tmp_path / "source"  # a copy: building in the checkout would leave build/ behind
+    source.mkdir()
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(REPO / name, source / name)
+    for name in ("hippo_env", "hippo_agent", "hippomaze", "baselines"):
+        shutil.copytree(REPO / name, source / name, ignore=shutil.ignore_patterns("__pycache__"))
+    built = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", str(source), "--no-deps", "--no-build-isolation", "-q", "-w", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert built.returncode == 0, built.stderr[-2000:]
+    (wheel,) = tmp_path.glob("hippomaze-*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    top = {n.split("/")[0] for n in names if ".dist-info/" not in n}
+    assert top == {"hippo_env", "hippo_agent", "hippomaze"}
+    assert "hippomaze/baselines/sb3_agents.py" in names  # --agent dqn works from the wheel
+    assert "hippo_env/mazes/open.json" in names
