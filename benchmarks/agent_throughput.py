@@ -16,13 +16,12 @@ import datetime
 import resource
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 
 import hippo_env
-from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from benchmarks.common import command_line, load_average, machine_info, output_path, parse_dataclass_args
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_env.dmtp import rollout
 
@@ -128,8 +127,7 @@ def main(argv: list[str] | None = None) -> None:
         "meets_target": bool(paper_scale)
         and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
     }
-    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = output_path(args.out)
     hippo_env.write_json(out, record)
     print(f"wrote {out}")
 

@@ -21,7 +21,6 @@ import datetime
 import statistics
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import gymnasium as gym
 import numba
@@ -29,7 +28,7 @@ import numpy as np
 import pymunk
 
 import hippo_env
-from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from benchmarks.common import command_line, load_average, machine_info, output_path, parse_dataclass_args
 
 
 @dataclass
@@ -165,8 +164,7 @@ def main(argv: list[str] | None = None) -> None:
             "min_x_peer_720_rays": min((row["x_peer"] for row in single if "x_peer" in row), default=None),
         },
     }
-    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = output_path(args.out)
     hippo_env.write_json(out, record)
     slowest = record["min_steps_per_second_720_rays"]
     print(f"wrote {out}" + (f"; slowest maze at 720 rays: {slowest:,} steps/s (target {args.target:,.0f})" if slowest else ""))

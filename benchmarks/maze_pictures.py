@@ -7,7 +7,6 @@ python -m benchmarks.maze_pictures --mazes open maze1 --out /tmp/mazes.png
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import matplotlib
 
@@ -15,10 +14,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 import hippo_env
-from benchmarks.common import parse_dataclass_args
+from benchmarks.common import output_path, parse_dataclass_args
 from hippo_env.render import plot_maze
-
-REPO = Path(__file__).resolve().parent.parent
 
 
 @dataclass
@@ -43,8 +40,7 @@ def main(argv: list[str] | None = None) -> None:
         if ax is not axes[0][0]:
             ax.set_ylabel("")
     fig.tight_layout()
-    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = output_path(args.out)
     fig.savefig(out, dpi=args.dpi)
     print(f"wrote {out}")
 

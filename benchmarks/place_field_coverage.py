@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import datetime
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 
 import hippo_env  # registers HippoMaze-v0
-from benchmarks.common import REPO, command_line, machine_info, parse_dataclass_args
+from benchmarks.common import command_line, machine_info, output_path, parse_dataclass_args
 from hippo_agent import HippocampalAgent
 from hippo_agent.plots import grid_positions
 from hippo_env.physics import ROBOT_RADIUS
@@ -79,8 +78,7 @@ def main(argv: list[str] | None = None) -> None:
         "targets": {"coverage": ">= 0.90", "median_field_share_of_arena": "< 0.10"},
         "rows": rows,
     }
-    out = Path(args.out) if Path(args.out).is_absolute() else REPO / args.out
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = output_path(args.out)
     hippo_env.write_json(out, record)
     print(f"wrote {out}")
 
