@@ -13,6 +13,7 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_env.dmtp import rollout
 from hippo_env.geometry import wrap_angle
 
 from .results import NavRun
@@ -94,16 +95,17 @@ def explore_without_goal(env: gym.Env, agent: HippocampalAgent, steps: int) -> n
     """The agent explores on its own with no goal anywhere (learning on); returns the path."""
     obs, info = env.reset(options={"goal": None})
     agent.reset(obs, info)
-    path = [info["position"]]
-    for _ in range(steps):
-        action = agent.act(obs)
-        obs, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, obs, reward, terminated, truncated, info)
-        path.append(info["position"])
-        if terminated or truncated:
+    path = [env.unwrapped.path[:1]]
+    remaining = steps
+    while remaining > 0:
+        end = rollout(env, agent, obs, max_steps=remaining)
+        remaining -= end.steps
+        path.append(env.unwrapped.path[-end.steps :])
+        obs = end.observation
+        if end.terminated or end.truncated:
             obs, info = env.reset(options={"goal": None})
             agent.reset(obs, info)
-    return np.asarray(path, float)
+    return np.concatenate(path).astype(float)
 
 
 def drive_scripted(env: gym.Env, agent: HippocampalAgent, waypoints: Any) -> np.ndarray:
@@ -113,16 +115,9 @@ def drive_scripted(env: gym.Env, agent: HippocampalAgent, waypoints: Any) -> np.
     obs, info = env.reset(options={"goal": None, "start": start, "heading": heading})
     driver = ScriptedDriver(agent, waypoints)
     driver.reset(obs, info)
-    path = [info["position"]]
     limit = int(sum(np.linalg.norm(np.diff(np.asarray(waypoints, float), axis=0), axis=1)) / 0.1) + 50
-    for _ in range(limit):
-        if driver.done():
-            break
-        action = driver.act(obs)
-        obs, reward, terminated, truncated, info = env.step(action)
-        driver.observe(action, obs, reward, terminated, truncated, info)
-        path.append(info["position"])
-    return np.asarray(path, float)
+    rollout(env, driver, obs, max_steps=limit, keep_going=lambda: not driver.done())
+    return np.asarray(env.unwrapped.path, float)
 
 
 def replay_at(agent: HippocampalAgent, env: gym.Env, goal: Any) -> bool:
@@ -147,11 +142,7 @@ def navigate(agent: HippocampalAgent, env: gym.Env, goal: Any, runs: int, seed: 
         runner = copy.deepcopy(agent)
         obs, info = env.reset()
         runner.reset(obs, info)
-        terminated = truncated = False
-        while not (terminated or truncated):
-            action = runner.act(obs)
-            obs, reward, terminated, truncated, info = env.step(action)
-            runner.observe(action, obs, reward, terminated, truncated, info)
+        info = rollout(env, runner, obs).info
         out.append(
             NavRun(
                 success=bool(info["is_success"]), indirectness=float(info.get("indirectness", math.nan)), steps=len(env.unwrapped.path) - 1
