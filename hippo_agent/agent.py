@@ -40,15 +40,13 @@ What each setting measures, per maze, is in the README and ``benchmarks/results/
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import zipfile
-from collections.abc import Callable
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
+from hippo_agent import analysis, persistence
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
 from hippo_agent.config import AgentConfig
 from hippo_env.dmtp import rollout
@@ -56,11 +54,7 @@ from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
 
-ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
 PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
-
-FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
 
 
 def _describe_space(space: Any) -> str:
@@ -427,176 +421,26 @@ class HippocampalAgent:
         return np.asarray(env.unwrapped.world.position, dtype=np.float64) - self.pi.estimate
 
     def place_field_map(self, env: Any, positions: np.ndarray, heading: float = 0.0) -> np.ndarray:
-        """Place rates at each position, shape ``(len(positions), n_place)``.
-
-        Uses ``env.unwrapped.observation_at(position, heading)`` and, with path integration, the
-        position in the agent's frame as if it were localised there (:meth:`frame_offset`):
-        analysis only, the agent never sees positions while acting. Positions the environment
-        rejects (inside an obstacle) get NaN rows.
-        """
-        positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        out = np.full((len(positions), self.config.n_place), np.nan)
-        base = env.unwrapped
-        offset = self.frame_offset(env) if self.config.path_integration else None
-        for n, pos in enumerate(positions):
-            try:
-                obs = base.observation_at(pos, heading)
-            except ValueError:
-                continue
-            out[n] = self.place_rates_at(obs, None if offset is None else pos - offset)
-        return out
+        """Place rates at each position, shape ``(len(positions), n_place)``, NaN rows where the env
+        rejects a position (see :func:`hippo_agent.analysis.place_field_map`)."""
+        return analysis.place_field_map(self, env, positions, heading)
 
     def reward_map(self, env: Any, positions: np.ndarray, goal: int = -1, heading: float = 0.0) -> np.ndarray:
-        """Reward cell ``goal``'s value (eq. 9) at each position, NaN where the env rejects it."""
-        rates = self.place_field_map(env, positions, heading)
-        if self.reward.n == 0:
-            return np.where(np.isnan(rates[:, 0]), np.nan, 0.0)
-        W = self.reward.W_rp[goal]
-        total = rates.sum(axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            val = np.where(total > 0, (rates @ W) / np.where(total > 0, total, 1.0), 0.0)
-        return np.where(np.isnan(total), np.nan, val)
+        """Reward cell ``goal``'s value (eq. 9) at each position, NaN where the env rejects it
+        (see :func:`hippo_agent.analysis.reward_map`)."""
+        return analysis.reward_map(self, env, positions, goal, heading)
 
     # ================================================================== save / load
-    _ARRAY_HOME: ClassVar[dict[str, tuple[str, str]]] = {
-        "W_pb": ("place", "W_pb"),
-        "W_rp": ("reward", "W_rp"),
-        "W_eff": ("reward", "W_eff"),
-        "s": ("place", "s"),
-        "v": ("place", "v"),
-        "trace": ("place", "trace"),
-        "hd_trace": ("place", "hd_trace"),
-        "hd_rates": ("hd", "rates"),
-        "bvc_rates": ("bvc", "rates"),
-        "last_values": ("agent", "last_values"),
-        "s_sense": ("place", "s_sense"),
-        "v_sense": ("place", "v_sense"),
-        "centres": ("place", "centres"),
-        "centre_mass": ("place", "centre_mass"),
-        "spread": ("place", "spread"),
-        "spread_mass": ("place", "spread_mass"),
-        "pi_particles": ("pi", "particles"),
-        "pi_weights": ("pi", "weights"),
-        "pi_estimate": ("pi", "estimate"),
-        "pi_last_step": ("pi", "last_step"),
-    }
-    _ARRAYS = (*_ARRAY_HOME, "W_pp_slots", "W_pp_cells")
-    # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
-    _STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
-        ("phase", str),
-        ("trial", int),
-        ("goal_rewarded", bool),
-        ("started", bool),
-        ("intended_heading", float),
-        ("segment_left", int),
-        ("escape_left", int),
-        ("heading", float),
-        ("last_decision", str),
-        ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
-        ("total_steps", int),
-    )
-    # The path integrator's, under "state" -> "pi".
-    _PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
-        ("frame_started", bool),
-        ("anchored", bool),
-        ("fresh", bool),
-        ("confidence", float),
-    )
-
-    def _array_slots(self) -> list[tuple[str, Any, str]]:
-        """(name in the file, object holding it, attribute) for every saved array."""
-        return [(name, self if owner == "agent" else getattr(self, owner), attr) for name, (owner, attr) in self._ARRAY_HOME.items()]
-
     def save(self, path: str | os.PathLike) -> None:
         """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
 
         The file holds the arrays plus a JSON metadata entry with a format tag and version;
-        :meth:`load` restores an agent whose future behaviour is identical.
+        :meth:`load` restores an agent whose future behaviour is identical (``hippo_agent.persistence``).
         """
-        meta = {
-            "format": FORMAT_TAG,
-            "version": FORMAT_VERSION,
-            "config": self.config.to_dict(),
-            "seed": self.seed,
-            "observation": {"n_rays": self.n_rays, "max_range": self.max_range, "odometry": self.has_odometry},
-            "action": {"kind": self.action_kind, "n": self.n_actions},
-            "rng_state": self.rng.bit_generator.state,
-            "rng_kind": type(self.rng.bit_generator).__name__,
-            "state": {
-                **{name: getattr(self, name) for name, _ in self._STATE},
-                "pi": {name: getattr(self.pi, name) for name, _ in self._PI_STATE},
-            },
-        }
-        arrays = {name: getattr(target, attr) for name, target, attr in self._array_slots()}
-        arrays["W_pp_slots"] = self.place.W_pp_used  # the compact W_pp (see PlaceCells)
-        arrays["W_pp_cells"] = self.place.slot_cells
-        with open(path, "wb") as f:
-            np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
+        persistence.save(self, path)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> HippocampalAgent:
         """Read an agent written by :meth:`save`; a corrupt, truncated or foreign file raises
         ``ValueError``."""
-        import gymnasium as gym
-
-        what = f"'{os.fspath(path)}' is not a readable hippomaze agent file"
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                if "__meta__" not in data.files:
-                    raise ValueError(f"{what}: it has no '__meta__' entry (not written by HippocampalAgent.save)")
-                meta = json.loads(str(data["__meta__"]))
-                missing = [k for k in cls._ARRAYS if k not in data.files]
-                if missing:
-                    raise ValueError(f"{what}: arrays {missing} are missing")
-                arrays = {k: data[k] for k in cls._ARRAYS}
-        except ValueError as exc:
-            if str(exc).startswith(what):
-                raise
-            raise ValueError(f"{what}: {exc}") from exc
-        except (OSError, EOFError, zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
-            raise ValueError(f"{what}: {type(exc).__name__}: {exc}") from exc
-        if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
-            raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, expected {FORMAT_TAG!r}")
-        if meta.get("version") != FORMAT_VERSION:
-            raise ValueError(
-                f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION}"
-            )
-        try:
-            config = AgentConfig.from_dict(meta["config"])
-            n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
-            spaces = {
-                "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
-                "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
-            }
-            if meta["observation"]["odometry"]:
-                spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
-            obs_space = gym.spaces.Dict(spaces)
-            if meta["action"]["kind"] == "discrete":
-                act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
-            else:
-                act_space = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
-            agent = cls(obs_space, act_space, config, seed=meta["seed"])
-            for name, target, attr in agent._array_slots():
-                ref, arr = getattr(target, attr), arrays[name]
-                ok = (arr.ndim == 2 and arr.shape[1] == config.n_place) if name == "W_rp" else arr.shape == ref.shape
-                if not ok or not np.all(np.isfinite(arr)):
-                    raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
-                setattr(target, attr, arr.astype(ref.dtype))
-            if not np.all(np.isfinite(arrays["W_pp_slots"])):
-                raise ValueError("array 'W_pp_slots' has non-finite values")
-            agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
-            if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
-                raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
-            agent.rng.bit_generator.state = meta["rng_state"]
-            st = meta["state"]
-            if st["phase"] not in ("dry", "trial"):
-                raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
-            for name, read in cls._STATE:
-                setattr(agent, name, read(st[name]))
-            for name, read in cls._PI_STATE:
-                setattr(agent.pi, name, read(st["pi"][name]))
-        except ValueError as exc:
-            raise ValueError(f"{what}: {exc}") from exc
-        except (KeyError, TypeError, AttributeError) as exc:
-            raise ValueError(f"{what}: metadata is incomplete ({type(exc).__name__}: {exc})") from exc
-        return agent
+        return persistence.load(cls, path)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from hippo_agent import AgentConfig, HippocampalAgent
-from hippo_agent.agent import FORMAT_TAG
+from hippo_agent.persistence import FORMAT_TAG
 
 
 def square_ranges(pos, heading, n_rays=360, half=3.0, max_range=8.0):

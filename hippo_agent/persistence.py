@@ -1,0 +1,164 @@
+"""Saving and loading a :class:`~hippo_agent.HippocampalAgent`: one npz file with every array, the
+generator's state and a JSON metadata entry (format tag and version), so a loaded agent behaves
+exactly as the saved one would have."""
+
+from __future__ import annotations
+
+import json
+import os
+import zipfile
+from collections.abc import Callable
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from hippo_agent.config import AgentConfig
+
+__all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
+
+FORMAT_TAG = "hippomaze.HippocampalAgent"
+FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
+ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
+
+# Every saved array: its name in the file -> (the agent's part holding it, the attribute).
+ARRAY_HOME: dict[str, tuple[str, str]] = {
+    "W_pb": ("place", "W_pb"),
+    "W_rp": ("reward", "W_rp"),
+    "W_eff": ("reward", "W_eff"),
+    "s": ("place", "s"),
+    "v": ("place", "v"),
+    "trace": ("place", "trace"),
+    "hd_trace": ("place", "hd_trace"),
+    "hd_rates": ("hd", "rates"),
+    "bvc_rates": ("bvc", "rates"),
+    "last_values": ("agent", "last_values"),
+    "s_sense": ("place", "s_sense"),
+    "v_sense": ("place", "v_sense"),
+    "centres": ("place", "centres"),
+    "centre_mass": ("place", "centre_mass"),
+    "spread": ("place", "spread"),
+    "spread_mass": ("place", "spread_mass"),
+    "pi_particles": ("pi", "particles"),
+    "pi_weights": ("pi", "weights"),
+    "pi_estimate": ("pi", "estimate"),
+    "pi_last_step": ("pi", "last_step"),
+}
+ARRAYS = (*ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+# The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
+STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+    ("phase", str),
+    ("trial", int),
+    ("goal_rewarded", bool),
+    ("started", bool),
+    ("intended_heading", float),
+    ("segment_left", int),
+    ("escape_left", int),
+    ("heading", float),
+    ("last_decision", str),
+    ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
+    ("total_steps", int),
+)
+# The path integrator's, under "state" -> "pi".
+PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
+    ("frame_started", bool),
+    ("anchored", bool),
+    ("fresh", bool),
+    ("confidence", float),
+)
+
+
+def _array_slots(agent: Any) -> list[tuple[str, Any, str]]:
+    """(name in the file, object holding it, attribute) for every saved array."""
+    return [(name, agent if owner == "agent" else getattr(agent, owner), attr) for name, (owner, attr) in ARRAY_HOME.items()]
+
+
+def save(agent: Any, path: str | os.PathLike) -> None:
+    """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
+
+    The file holds the arrays plus a JSON metadata entry with a format tag and version;
+    :meth:`load` restores an agent whose future behaviour is identical.
+    """
+    meta = {
+        "format": FORMAT_TAG,
+        "version": FORMAT_VERSION,
+        "config": agent.config.to_dict(),
+        "seed": agent.seed,
+        "observation": {"n_rays": agent.n_rays, "max_range": agent.max_range, "odometry": agent.has_odometry},
+        "action": {"kind": agent.action_kind, "n": agent.n_actions},
+        "rng_state": agent.rng.bit_generator.state,
+        "rng_kind": type(agent.rng.bit_generator).__name__,
+        "state": {
+            **{name: getattr(agent, name) for name, _ in STATE},
+            "pi": {name: getattr(agent.pi, name) for name, _ in PI_STATE},
+        },
+    }
+    arrays = {name: getattr(target, attr) for name, target, attr in _array_slots(agent)}
+    arrays["W_pp_slots"] = agent.place.W_pp_used  # the compact W_pp (see PlaceCells)
+    arrays["W_pp_cells"] = agent.place.slot_cells
+    with open(path, "wb") as f:
+        np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
+
+
+def load(cls: type, path: str | os.PathLike) -> Any:
+    """Read an agent written by :meth:`save`; a corrupt, truncated or foreign file raises
+    ``ValueError``."""
+    what = f"'{os.fspath(path)}' is not a readable hippomaze agent file"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if "__meta__" not in data.files:
+                raise ValueError(f"{what}: it has no '__meta__' entry (not written by HippocampalAgent.save)")
+            meta = json.loads(str(data["__meta__"]))
+            missing = [k for k in ARRAYS if k not in data.files]
+            if missing:
+                raise ValueError(f"{what}: arrays {missing} are missing")
+            arrays = {k: data[k] for k in ARRAYS}
+    except ValueError as exc:
+        if str(exc).startswith(what):
+            raise
+        raise ValueError(f"{what}: {exc}") from exc
+    except (OSError, EOFError, zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{what}: {type(exc).__name__}: {exc}") from exc
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
+        raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, expected {FORMAT_TAG!r}")
+    if meta.get("version") != FORMAT_VERSION:
+        raise ValueError(f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION}")
+    try:
+        config = AgentConfig.from_dict(meta["config"])
+        n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
+        spaces = {
+            "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
+            "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+        }
+        if meta["observation"]["odometry"]:
+            spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
+        obs_space = gym.spaces.Dict(spaces)
+        if meta["action"]["kind"] == "discrete":
+            act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
+        else:
+            act_space = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
+        agent = cls(obs_space, act_space, config, seed=meta["seed"])
+        for name, target, attr in _array_slots(agent):
+            ref, arr = getattr(target, attr), arrays[name]
+            ok = (arr.ndim == 2 and arr.shape[1] == config.n_place) if name == "W_rp" else arr.shape == ref.shape
+            if not ok or not np.all(np.isfinite(arr)):
+                raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
+            setattr(target, attr, arr.astype(ref.dtype))
+        if not np.all(np.isfinite(arrays["W_pp_slots"])):
+            raise ValueError("array 'W_pp_slots' has non-finite values")
+        agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
+        if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
+            raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
+        agent.rng.bit_generator.state = meta["rng_state"]
+        st = meta["state"]
+        if st["phase"] not in ("dry", "trial"):
+            raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
+        for name, read in STATE:
+            setattr(agent, name, read(st[name]))
+        for name, read in PI_STATE:
+            setattr(agent.pi, name, read(st["pi"][name]))
+    except ValueError as exc:
+        raise ValueError(f"{what}: {exc}") from exc
+    except (KeyError, TypeError, AttributeError) as exc:
+        raise ValueError(f"{what}: metadata is incomplete ({type(exc).__name__}: {exc})") from exc
+    return agent
