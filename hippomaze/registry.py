@@ -11,8 +11,8 @@ stable-baselines3, the hippocampal model) happen only when a factory is called.
 Three ways to name an agent:
 
 - a built-in name (:data:`AGENT_NAMES`);
-- ``module:Class``, for any class that follows the Agent protocol (the current directory is on
-  the import path, as with ``python -m``);
+- ``module:Class``, for any class that follows the Agent protocol (``hippomaze dmtp`` puts the
+  current directory on the import path, as ``python -m`` does);
 - a name another distribution registers in the ``hippomaze.agents`` entry-point group, e.g. in its
   ``pyproject.toml``::
 
