@@ -3,7 +3,8 @@
 For each population size the agent does a short dry run, finds a fixed goal (so the reward map
 exists and every later step exploits with 8-way preplay), then is timed alone on a recorded
 random walk of real observations: once exploiting, once exploring. One replay is timed too, and
-the memory of the place->place tensor is read off the agent.
+the memory of the place->place tensor is read off the agent. RatInABox (the ``peers`` extra) is timed
+beside it at the same cell counts: its agent moving and its place cells and BVCs updating.
 
     python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
     python -m benchmarks.agent_throughput --cells 250 --steps 500 --out /tmp/quick.json
@@ -44,6 +45,9 @@ class Args:
     """default (AgentConfig(), with path integration) or paper (AgentConfig.paper())"""
     target: float = 2_000.0
     """steps/s aimed for at 1000 place cells"""
+    peer_steps: int = 500
+    """steps of RatInABox (an agent moving, its place cells and 400 BVCs updating, no learning) timed
+    per repeat at each cell count, beside the agent; 0 skips it. Needs the ``peers`` extra."""
     out: str = "benchmarks/results/agent_throughput.json"
     """where the JSON goes (relative to the repository root unless absolute)"""
 
@@ -95,6 +99,7 @@ def main(argv: list[str] | None = None) -> None:
         exploit_wall, exploit_cpu, exploit_stats = timed(agent, recorded, exploit=True)
         explore_wall, explore_cpu, _ = timed(agent, recorded, exploit=False)
         w_pp_bytes = int(sum(a.nbytes for a in vars(agent.place).values() if isinstance(a, np.ndarray) and a.ndim == 3))
+        peer = _ratinabox_steps_per_second(n_place, agent.bvc.n, args) if args.peer_steps > 0 else None
         rows.append(
             {
                 "n_place": n_place,
@@ -107,11 +112,14 @@ def main(argv: list[str] | None = None) -> None:
                 "replay_ms": round(replay_ms, 2),
                 "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
                 "max_rss_megabytes": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+                "ratinabox_steps_per_second": None if peer is None else round(peer),
+                "exploiting_x_ratinabox": None if peer is None else round(exploit_wall / peer, 2),
             }
         )
         print(
             f"  {n_place:5d} place cells: exploiting {exploit_wall:7,.0f} steps/s ({exploit_cpu:,.0f} per CPU second), "
             f"exploring {explore_wall:7,.0f}; one replay {replay_ms:.1f} ms; W_pp {w_pp_bytes / 2**20:.1f} MB"
+            + ("" if peer is None else f"; RatInABox {peer:,.0f} steps/s ({exploit_wall / peer:.1f}x)")
         )
         env.close()
 
@@ -130,6 +138,30 @@ def main(argv: list[str] | None = None) -> None:
     out = output_path(args.out)
     hippo_env.write_json(out, record)
     print(f"wrote {out}")
+
+
+def _ratinabox_steps_per_second(n_place: int, n_bvc: int, args: Args) -> float | None:
+    """Best steps/s of RatInABox updating an agent, ``n_place`` place cells and ``n_bvc`` BVCs in a
+    10 m arena (its defaults otherwise; it does not learn), or None if it is not installed."""
+    try:
+        from ratinabox.Agent import Agent
+        from ratinabox.Environment import Environment
+        from ratinabox.Neurons import BoundaryVectorCells, PlaceCells
+    except ImportError:
+        print("  RatInABox is not installed (pip install -e .[peers]): not timed")
+        return None
+    environment = Environment(params={"scale": 10.0, "dimensionality": "2D"})
+    rat = Agent(environment)  # its default time step: a longer one makes its random motion diverge
+    cells = [BoundaryVectorCells(rat, params={"n": n_bvc}), PlaceCells(rat, params={"n": n_place})]
+    best = 0.0
+    for _ in range(args.repeats):
+        began = time.perf_counter()
+        for _ in range(args.peer_steps):
+            rat.update()
+            for population in cells:
+                population.update()
+        best = max(best, args.peer_steps / (time.perf_counter() - began))
+    return best
 
 
 if __name__ == "__main__":
