@@ -45,6 +45,7 @@ from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
 from hippo_env.dmtp import run_dmtp
 from hippo_env.maze import MazeSpec
+from hippo_env.physics import ROBOT_RADIUS
 from hippomaze.paper.statistics import spearman
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
@@ -76,58 +77,16 @@ class DiagnoseArgs:
 
 
 # ------------------------------------------------------------------ geometry (analysis only)
-class FreeGraph:
-    """Geodesic distances over a grid of the free space (8-connected), for any pair of points."""
-
-    def __init__(self, spec: MazeSpec, spacing: float = GRAPH_SPACING) -> None:
-        from scipy.sparse import coo_matrix
-
-        from hippo_env.physics import ROBOT_RADIUS
-
-        hw, hh = spec.half_extent
-        xs = np.arange(-hw + spacing / 2, hw, spacing)
-        ys = np.arange(-hh + spacing / 2, hh, spacing)
-        self.spacing, self.origin, self.shape = spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs))
-        gx, gy = np.meshgrid(xs, ys)
-        points = np.column_stack([gx.ravel(), gy.ravel()])
-        self.free = spec.free_mask(points, ROBOT_RADIUS)
-        rows, cols = self.shape
-        idx = np.arange(rows * cols).reshape(rows, cols)
-        src, dst, w = [], [], []
-        for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):  # each undirected edge once
-            c0, c1 = max(0, -dc), cols - max(0, dc)
-            a = idx[: rows - dr, c0:c1]
-            b = idx[dr:, c0 + dc : c1 + dc]
-            ok = self.free[a.ravel()] & self.free[b.ravel()]
-            src.append(a.ravel()[ok])
-            dst.append(b.ravel()[ok])
-            w.append(np.full(ok.sum(), spacing * math.hypot(dr, dc)))
-        n = rows * cols
-        self.graph = coo_matrix((np.concatenate(w), (np.concatenate(src), np.concatenate(dst))), shape=(n, n)).tocsr()
-        self.points = points
-
-    def node(self, positions: np.ndarray) -> np.ndarray:
-        """The nearest free grid node of each position."""
-        positions = np.asarray(positions, float).reshape(-1, 2)
-        free_idx = np.flatnonzero(self.free)
-        d = ((positions[:, None, :] - self.points[free_idx][None, :, :]) ** 2).sum(axis=2)
-        return free_idx[d.argmin(axis=1)]
-
-    def distances(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
-        """Geodesic distance matrix, ``(len(sources), len(targets))``."""
-        from scipy.sparse.csgraph import dijkstra
-
-        full = dijkstra(self.graph, directed=False, indices=self.node(sources))
-        return full[:, self.node(targets)]
+def path_distances(spec: MazeSpec, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Geodesic distance matrix ``(len(sources), len(targets))`` on a ``GRAPH_SPACING`` grid of the free space."""
+    return np.array([spec.distance_field(source, ROBOT_RADIUS, GRAPH_SPACING).at(targets) for source in np.asarray(sources, float)])
 
 
 def sample_places(spec: MazeSpec, spacing: float = SAMPLE_SPACING) -> np.ndarray:
     """Free places on a grid (clearance of at least 0.3 m)."""
-    hw, hh = spec.half_extent
-    xs = np.arange(-hw + spacing / 2, hw, spacing)
-    ys = np.arange(-hh + spacing / 2, hh, spacing)
-    points = np.array([(x, y) for y in ys for x in xs])
-    return points[spec.free_mask(points, 0.3)]
+    xs, ys, free = spec.free_grid(0.3, spacing)
+    gx, gy = np.meshgrid(xs, ys)
+    return np.column_stack([gx[free], gy[free]])
 
 
 def across_walls(rates: np.ndarray, places: np.ndarray, path_distance: np.ndarray) -> float | None:
@@ -294,9 +253,8 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
     overrides = {} if args.dry_run_steps < 0 else {"dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
     config = AgentConfig.paper(**overrides) if args.paper else AgentConfig(**overrides)
-    graph = FreeGraph(spec)
     places = sample_places(spec)
-    place_distance = graph.distances(places, places)
+    place_distance = path_distances(spec, places, places)
     watchers: list[Watcher] = []
     per_trial: list[dict[str, Any]] = []
 
@@ -309,7 +267,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         watcher.env = env
         if run == 0:
             goal = np.asarray(env.unwrapped.goal, float)
-            to_goal = graph.distances(goal[None], places)[0]
+            to_goal = path_distances(spec, goal[None], places)[0]
             values = agent.reward_map(env, places)
             ok = np.isfinite(values)
             covered = ok & (values > config.xi_here)
@@ -317,7 +275,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
                 "trial": trial,
                 "coverage": float(covered.sum() / max(ok.sum(), 1)),
                 "spearman": spearman(values[covered], to_goal[covered]) if covered.sum() >= 5 else None,
-                "replay_reach": replay_reach(agent, env, graph, goal),
+                "replay_reach": replay_reach(agent, env, spec, goal),
             }
             per_trial.append(record)
         if run == args_runs - 1:
@@ -387,7 +345,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
     return record
 
 
-def replay_reach(agent: HippocampalAgent, env: Any, graph: FreeGraph, goal: np.ndarray) -> list[tuple[float, float]]:
+def replay_reach(agent: HippocampalAgent, env: Any, spec: MazeSpec, goal: np.ndarray) -> list[tuple[float, float]]:
     """Run 1's replay again from the goal's rates (nothing learnt) and, per iteration, the median
     and 90th-percentile path distance from the goal of the field peaks of the reached cells."""
     place = agent.place
@@ -395,7 +353,7 @@ def replay_reach(agent: HippocampalAgent, env: Any, graph: FreeGraph, goal: np.n
     if not np.any(v > 0):
         return []
     peaks = field_peaks(agent, env)
-    to_goal = graph.distances(goal[None], peaks[np.isfinite(peaks[:, 0])])[0] if np.isfinite(peaks[:, 0]).any() else np.zeros(0)
+    to_goal = path_distances(spec, goal[None], peaks[np.isfinite(peaks[:, 0])])[0] if np.isfinite(peaks[:, 0]).any() else np.zeros(0)
     dist_of = np.full(place.n, np.nan)
     dist_of[np.isfinite(peaks[:, 0])] = to_goal
     out = []

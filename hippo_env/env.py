@@ -11,6 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from hippo_env import physics
+from hippo_env.geometry import DistanceField
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
@@ -185,7 +186,7 @@ class HippoMazeEnv(gym.Env):
         self._first_goal = self._choose_first_goal(goal, goal_seed)
         self.goal: np.ndarray | None = None
         self._goal_set = False  # no goal chosen yet (the first reset chooses one)
-        self._distance_field: tuple[np.ndarray, np.ndarray] | None = None
+        self._distance_field: tuple[DistanceField, float] | None = None
         self._ranges = np.zeros(self.rangefinder.n_rays)
         self._path = PathRecord(path_limit)
         self._path_length = 0.0
@@ -422,14 +423,17 @@ class HippoMazeEnv(gym.Env):
         return max(length - self.goal_radius, 0.0)
 
     def _distance_to_goal(self, position: np.ndarray) -> float:
-        """Geodesic distance to the goal, read off a grid distance field built once per goal."""
+        """Geodesic distance to the goal: the distance of the grid cell holding ``position`` in a field
+        built once per goal. Cells the robot cannot occupy count as the farthest reachable one, so
+        pushing against a wall never pays."""
         if self._distance_field is None:
-            self._distance_field = self.maze.distance_field(self.goal, physics.ROBOT_RADIUS, DENSE_GRID)
-        field, origin = self._distance_field
-        col, row = ((position - origin) / DENSE_GRID).astype(int)
-        row = min(max(row, 0), field.shape[0] - 1)
-        col = min(max(col, 0), field.shape[1] - 1)
-        return float(field[row, col])
+            field = self.maze.distance_field(self.goal, physics.ROBOT_RADIUS, DENSE_GRID)
+            reachable = field.distances[np.isfinite(field.distances)]
+            self._distance_field = (field, float(reachable.max()) if reachable.size else 0.0)
+        field, farthest = self._distance_field
+        rows, cols = field.cell(position)
+        distance = float(field.distances[rows[0], cols[0]])
+        return distance if math.isfinite(distance) else farthest
 
 
 def add_indirectness(info: dict[str, Any]) -> None:

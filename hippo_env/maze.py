@@ -9,7 +9,6 @@ radius (a visibility graph over points placed around every convex corner, then D
 
 from __future__ import annotations
 
-import heapq
 import json
 import math
 from dataclasses import dataclass, field
@@ -20,7 +19,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from hippo_env.geometry import segments_clearance
+from hippo_env.geometry import DistanceField, clear_of_segments, segments_clearance
 
 BUILTIN_MAZES = ("open", "maze1", "maze2", "maze3", "maze4")
 
@@ -232,21 +231,15 @@ class MazeSpec:
     def free_grid(self, radius: float, resolution: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cell centres ``xs``, ``ys`` over the arena and ``free[row, col]``: whether a disc of ``radius`` fits there.
 
-        Each wall only visits the cells within ``radius`` of its bounding box, and each obstacle
-        the cells of its bounding box, so the cost is the grid itself plus the walls' surroundings:
-        the raster behind :meth:`check_connected`, fast enough for a ``MAX_SIZE`` arena. For a few
-        thousand points (analysis grids, :meth:`distance_field`) use :meth:`free_mask`.
+        The same test as :meth:`free_mask`, point for point, but each wall only visits the cells
+        within ``radius`` of it and each obstacle the cells of its bounding box, so the cost is the
+        grid itself plus the walls' surroundings: fast enough for a ``MAX_SIZE`` arena.
         """
         hw, hh = self.half_extent
-        xs = -hw + (np.arange(math.ceil(2 * hw / resolution - 1e-9)) + 0.5) * resolution
-        ys = -hh + (np.arange(math.ceil(2 * hh / resolution - 1e-9)) + 0.5) * resolution
+        xs = np.arange(-hw + resolution / 2, hw - 1e-9, resolution)
+        ys = np.arange(-hh + resolution / 2, hh - 1e-9, resolution)
         free = np.ones((len(ys), len(xs)), dtype=bool)
-        for x0, y0, x1, y1 in self._segments:
-            cols = slice(np.searchsorted(xs, min(x0, x1) - radius), np.searchsorted(xs, max(x0, x1) + radius, side="right"))
-            rows = slice(np.searchsorted(ys, min(y0, y1) - radius), np.searchsorted(ys, max(y0, y1) + radius, side="right"))
-            for block_rows, points in _blocks(xs[cols], ys[rows], rows.start):
-                near = _points_segments_distance(points, np.array([[x0, y0, x1, y1]])) < radius
-                free[block_rows, cols] &= ~near.reshape(-1, len(xs[cols]))
+        clear_of_segments(free, xs, ys, self._segments, float(radius))
         for poly in self.obstacles:
             pts = np.asarray(poly)
             cols = slice(np.searchsorted(xs, pts[:, 0].min()), np.searchsorted(xs, pts[:, 0].max(), side="right"))
@@ -255,37 +248,10 @@ class MazeSpec:
                 free[block_rows, cols] &= ~_points_in_polygon(points, poly).reshape(-1, len(xs[cols]))
         return xs, ys, free
 
-    def distance_field(self, goal: np.ndarray, radius: float, resolution: float) -> tuple[np.ndarray, np.ndarray]:
-        """Geodesic distances to ``goal`` over a grid of the free space (8-connected Dijkstra): ``(field, origin)``.
-
-        ``field[row, col]`` belongs to the cell whose lower-left corner is ``origin + resolution * (col, row)``;
-        a cell is free when a disc of ``radius`` fits at its centre (:meth:`free_mask`). Cells the disc
-        cannot occupy get the largest finite distance, so pushing against a wall never pays.
-        """
-        hw, hh = self.half_extent
-        origin = np.array([-hw, -hh])
-        cols, rows = math.ceil(2 * hw / resolution), math.ceil(2 * hh / resolution)
-        xs = origin[0] + (np.arange(cols) + 0.5) * resolution
-        ys = origin[1] + (np.arange(rows) + 0.5) * resolution
-        gx, gy = np.meshgrid(xs, ys)
-        free = self.free_mask(np.column_stack([gx.ravel(), gy.ravel()]), radius).reshape(rows, cols)
-        field = np.full((rows, cols), np.inf)
-        g_col, g_row = ((goal - origin) / resolution).astype(int)
-        field[g_row, g_col] = 0.0
-        queue = [(0.0, g_row, g_col)]
-        moves = [(dr, dc, resolution * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
-        while queue:
-            dist, r, c = heapq.heappop(queue)
-            if dist > field[r, c]:
-                continue
-            for dr, dc, cost in moves:
-                rr, cc = r + dr, c + dc
-                if 0 <= rr < rows and 0 <= cc < cols and free[rr, cc] and dist + cost < field[rr, cc]:
-                    field[rr, cc] = dist + cost
-                    heapq.heappush(queue, (dist + cost, rr, cc))
-        finite = field[np.isfinite(field)]
-        field[~np.isfinite(field)] = finite.max() if finite.size else 0.0
-        return field, origin
+    def distance_field(self, goal: np.ndarray, radius: float, resolution: float) -> DistanceField:
+        """Geodesic distances to ``goal`` for a disc of ``radius`` over the :meth:`free_grid` at ``resolution``."""
+        _, _, free = self.free_grid(radius, resolution)
+        return DistanceField.from_grid(free, -np.asarray(self.half_extent, float), resolution, np.asarray(goal, float))
 
     def _free_components(self, radius: float, resolution: float) -> tuple[np.ndarray, int]:
         _, _, free = self.free_grid(radius, resolution)
@@ -434,16 +400,6 @@ def _points_in_polygon(points: np.ndarray, poly: tuple[tuple[float, float], ...]
             x_at = x0 + (py - y0) * (x1 - x0) / (y1 - y0)
         inside ^= crosses & (px < x_at)
     return inside
-
-
-def _points_segments_distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """Distance from each point to the nearest of the segments."""
-    a, b = segments[:, :2], segments[:, 2:]
-    ab = b - a
-    rel = points[:, None, :] - a[None, :, :]
-    t = np.clip((rel * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0.0, 1.0)
-    nearest = a[None] + t[..., None] * ab[None]
-    return np.linalg.norm(points[:, None, :] - nearest, axis=-1).min(axis=1)
 
 
 def _segments_distance(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray) -> np.ndarray:

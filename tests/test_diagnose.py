@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmarks.diagnose import DiagnoseArgs, FreeGraph, across_walls, diagnose, twin_share
+from benchmarks.diagnose import DiagnoseArgs, across_walls, diagnose, path_distances, twin_share
 from benchmarks.maze_suite import maze_source, one
 from hippo_env.maze import MazeSpec
 
@@ -13,8 +13,7 @@ WALL = MazeSpec.from_dict({"name": "wall", "size": [6.0, 6.0], "obstacles": [[[-
 
 
 def test_geodesic_goes_around_the_wall():
-    graph = FreeGraph(WALL)
-    d = graph.distances(np.array([[-2.0, -1.0]]), np.array([[-2.0, 1.0], [-2.0, -2.0]]))[0]
+    d = path_distances(WALL, np.array([[-2.0, -1.0]]), np.array([[-2.0, 1.0], [-2.0, -2.0]]))[0]
     assert d[0] > 2 * np.hypot(4.2, 1.0) - 0.3  # around the wall's free end at x = 2
     assert abs(d[1] - 1.0) < 0.05
 

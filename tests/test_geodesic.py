@@ -13,6 +13,7 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from brute_force import free_by_brute_force
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.sparse import coo_matrix
@@ -20,7 +21,6 @@ from scipy.sparse.csgraph import dijkstra
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from hippo_env import MazeSpec
-from hippo_env.maze import _points_in_polygon, _points_segments_distance
 
 R = 0.17  # the robot's radius
 CELL = 0.02  # m, the reference grid
@@ -68,10 +68,7 @@ def grid_distances(spec: MazeSpec, goal: np.ndarray, clearance: float = R) -> tu
     ys = -hh + (np.arange(rows) + 0.5) * 2 * hh / rows
     gx, gy = np.meshgrid(xs, ys)
     centres = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    free = _points_segments_distance(centres, spec.segments) >= clearance
-    for polygon in spec.obstacles:
-        free &= ~_points_in_polygon(centres, polygon)
-    free = free.reshape(rows, cols)
+    free = free_by_brute_force(spec, centres, clearance).reshape(rows, cols)
     dx, dy = 2 * hw / cols, 2 * hh / rows
     index = np.arange(rows * cols).reshape(rows, cols)
     sources, targets, weights = [], [], []

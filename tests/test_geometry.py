@@ -35,10 +35,12 @@ def test_clearance_of_many_points_is_that_of_each_point():
 def test_distance_field_is_zero_at_the_goal_and_grows_around_an_obstacle():
     spec = MazeSpec.load("maze1")
     goal = spec.sample_free(np.random.default_rng(0), 0.5)
-    field, origin = spec.distance_field(goal, ROBOT_RADIUS, 0.1)
-    col, row = ((goal - origin) / 0.1).astype(int)
-    assert field[row, col] == 0.0
-    assert np.all(np.isfinite(field)) and field.max() > 0
+    field = spec.distance_field(goal, ROBOT_RADIUS, 0.1)
+    rows, cols = field.cell(goal)
+    assert field.distances[rows[0], cols[0]] == 0.0
+    _, _, free = spec.free_grid(ROBOT_RADIUS, 0.1)
+    assert np.all(np.isfinite(field.distances[free])) and np.all(np.isinf(field.distances[~free]))
+    assert field.at(goal)[0] == 0.0 and field.distances.max(initial=0.0, where=free) > 0
 
 
 def test_jsonable_writes_nan_and_infinity_as_null_and_numpy_as_python():

@@ -6,9 +6,10 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from brute_force import free_by_brute_force
 
 from hippo_env import MazeSpec
-from hippo_env.maze import MAX_SIZE, _points_in_polygon, _points_segments_distance
+from hippo_env.maze import MAX_SIZE
 
 R = 0.17
 
@@ -55,7 +56,5 @@ def test_free_grid_equals_every_point_against_every_wall(seed):
     xs, ys, free = spec.free_grid(R, 0.05)
     gx, gy = np.meshgrid(xs, ys)
     points = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    expected = _points_segments_distance(points, spec.segments) >= R
-    for polygon in spec.obstacles:
-        expected &= ~_points_in_polygon(points, polygon)
-    np.testing.assert_array_equal(free, expected.reshape(free.shape))
+    np.testing.assert_array_equal(free, free_by_brute_force(spec, points, R).reshape(free.shape))
+    np.testing.assert_array_equal(free, spec.free_mask(points, R).reshape(free.shape))

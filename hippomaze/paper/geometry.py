@@ -1,27 +1,25 @@
-"""Geometry of the paper's experiments: the free grid over a maze, geodesic distances on it, the
-distance to a path (the free test and angle wrapping are hippo_env's)."""
+"""Geometry of the paper's experiments: the free grid over a maze, geodesic distances on it (both
+hippo_env's, cached per maze and goal) and the distance to a path."""
 
 from __future__ import annotations
 
 import functools
-import heapq
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from hippo_env.geometry import DistanceField
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
 
 
 @dataclass
 class Grid:
-    """A regular grid over a maze: ``positions`` are the free cells' centres, row-major; ``origin`` is
-    the centre of cell (0, 0), ``shape`` is (rows, cols) and ``flat`` each free position's flat cell index."""
+    """A regular grid over a maze: ``positions`` are the free cells' centres, row-major; ``shape`` is
+    (rows, cols) and ``flat`` each free position's flat cell index."""
 
     spacing: float
-    origin: np.ndarray
     shape: tuple[int, int]
     flat: np.ndarray
     positions: np.ndarray
@@ -30,53 +28,21 @@ class Grid:
 @functools.lru_cache(maxsize=16)
 def grid_for(maze: str, spacing: float) -> Grid:
     """The free positions (clearance >= the robot's radius) of a grid with ``spacing``."""
-    spec = MazeSpec.load(maze)
-    hw, hh = spec.half_extent
-    xs = np.arange(-hw + spacing / 2, hw - 1e-9, spacing)
-    ys = np.arange(-hh + spacing / 2, hh - 1e-9, spacing)
+    xs, ys, free = MazeSpec.load(maze).free_grid(ROBOT_RADIUS, spacing)
     gx, gy = np.meshgrid(xs, ys)
     points = np.column_stack([gx.ravel(), gy.ravel()])
-    free = spec.free_mask(points, ROBOT_RADIUS)
-    return Grid(spacing, np.array([xs[0], ys[0]]), (len(ys), len(xs)), np.flatnonzero(free), points[free])
+    flat = np.flatnonzero(free)
+    return Grid(spacing, free.shape, flat, points[flat])
 
 
 @functools.lru_cache(maxsize=64)
-def distance_field(maze: str, goal: tuple[float, float], spacing: float = 0.1) -> tuple[Grid, np.ndarray]:
-    """Geodesic distance (8-connected Dijkstra on a 0.1 m grid of free cells) from ``goal`` to every cell."""
-    grid = grid_for(maze, spacing)
-    rows, cols = grid.shape
-    dist = np.full(rows * cols, np.inf)
-    free = np.zeros(rows * cols, bool)
-    free[grid.flat] = True
-    start = grid.flat[np.argmin(np.linalg.norm(grid.positions - np.asarray(goal), axis=1))]
-    dist[start] = 0.0
-    queue = [(0.0, int(start))]
-    moves = [(dr, dc, spacing * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if dr or dc]
-    while queue:
-        d, cell = heapq.heappop(queue)
-        if d > dist[cell]:
-            continue
-        r, c = divmod(cell, cols)
-        for dr, dc, cost in moves:
-            rr, cc = r + dr, c + dc
-            if 0 <= rr < rows and 0 <= cc < cols:
-                nxt = rr * cols + cc
-                if free[nxt] and d + cost < dist[nxt]:
-                    dist[nxt] = d + cost
-                    heapq.heappush(queue, (d + cost, nxt))
-    return grid, dist.reshape(rows, cols)
+def _distance_field(maze: str, goal: tuple[float, float], spacing: float = 0.1) -> DistanceField:
+    return MazeSpec.load(maze).distance_field(np.array(goal), ROBOT_RADIUS, spacing)
 
 
 def geodesic_to(maze: str, goal: Any, positions: np.ndarray) -> np.ndarray:
-    """Geodesic distance from ``goal`` to each position (the nearest reachable grid cell's)."""
-    grid, field = distance_field(maze, (float(goal[0]), float(goal[1])))
-    rows, cols = grid.shape
-    padded = np.pad(field, 1, constant_values=np.inf)
-    rc = np.rint((np.asarray(positions) - grid.origin) / grid.spacing).astype(int)
-    col = np.clip(rc[:, 0], 0, cols - 1) + 1
-    row = np.clip(rc[:, 1], 0, rows - 1) + 1
-    near = np.stack([padded[row + dr, col + dc] + (grid.spacing * math.hypot(dr, dc)) for dr in (-1, 0, 1) for dc in (-1, 0, 1)])
-    return near.min(axis=0)
+    """Geodesic distance from ``goal`` to each position, on a 0.1 m grid (:meth:`DistanceField.at`)."""
+    return _distance_field(maze, (float(goal[0]), float(goal[1]))).at(positions)
 
 
 def distance_to_path(positions: np.ndarray, path: np.ndarray, chunk: int = 512) -> np.ndarray:
