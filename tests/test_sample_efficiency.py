@@ -245,24 +245,21 @@ class TestAnalysis:
         rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
         assert metrics.steps_to_criterion([rep], window=10) is None
         cell = summary.summarize_steps([None, None, 5000.0], budget=300_000)
-        assert cell["median_steps"] is None and cell["reached"] == 1
-        assert report.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
-        assert summary.ratio(cell, {"median_steps": 6000.0}) == "> 50"
+        assert cell.median_steps is None and cell.reached == 1
+        assert report.fmt_steps(cell.median_steps, 300_000) == "> 300,000"
+        assert summary.ratio(cell, summary.StepsToDirect(6000.0, 5, 5, None)) == "> 50"
 
     def test_no_ratio_when_the_hippo_is_never_direct(self):
-        never = {"median_steps": None, "reached": 1, "seeds": 5, "budget": None, "ratio_to_hippo": None}
-        reached = {"median_steps": 1000.0, "reached": 3, "seeds": 5, "budget": 300_000, "ratio_to_hippo": None}
-        summary = {
-            "mazes": ["maze1"],
-            "headline": [{"agent": "hippo", "privileged": False, "maze1": never}, {"agent": "dqn", "privileged": False, "maze1": reached}],
-        }
-        table = report.headline_markdown(summary).splitlines()
+        never = summary.HeadlineCell(summary.StepsToDirect(median_steps=None, reached=1, seeds=5, budget=None))
+        reached = summary.HeadlineCell(summary.StepsToDirect(median_steps=1000.0, reached=3, seeds=5, budget=300_000))
+        rows = [summary.HeadlineRow("hippo", False, {"maze1": never}), summary.HeadlineRow("dqn", False, {"maze1": reached})]
+        table = report.headline_markdown(summary.Summary(summary.Curves([], {}), {}, rows, ["hippo", "dqn"], ["maze1"])).splitlines()
         assert table[2] == "| hippo | never (1/5) | n/a |"
         assert table[3] == "| dqn | 1,000 (3/5) | n/a |"
 
     def test_median_over_seeds_counts_the_censored_ones(self):
         cell = summary.summarize_steps([1000.0, None, 3000.0], budget=10_000)
-        assert cell["median_steps"] == 3000.0  # [1000, 3000, inf]
+        assert cell.median_steps == 3000.0  # [1000, 3000, inf]
 
     def test_iqm_interval(self):
         values = np.array([1.0, 2.0, 3.0, 4.0, 100.0])

@@ -98,18 +98,17 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if not args.aggregate:
         return {"meta": meta, "records": records}
     if args.sweep:
-        summary = {**meta, **sweep_summary(records, args)}
-        write_json(out / "sample_efficiency_sweep.json", summary)
-        print(json.dumps(summary["rows"], indent=1))
-        return summary
-    summary = {**meta, **analyse({j.name: records[j.name] for j in jobs}, args)}
-    summary["headline_markdown"] = headline_markdown(summary)
-    summary["switch_markdown"] = switch_markdown(summary)
+        sweep = {**meta, **sweep_summary(records, args).to_dict()}
+        write_json(out / "sample_efficiency_sweep.json", sweep)
+        print(json.dumps(sweep["rows"], indent=1))
+        return sweep
+    summary = analyse({j.name: records[j.name] for j in jobs}, args)
+    document = {**meta, **summary.to_dict(), "headline_markdown": headline_markdown(summary), "switch_markdown": switch_markdown(summary)}
     stem = "sample_efficiency_quick" if args.quick else "sample_efficiency"
-    write_json(out / f"{stem}.json", summary)
-    plot_curves(summary, out / f"{stem}.png")
+    write_json(out / f"{stem}.json", document)
+    plot_curves(summary, out / f"{stem}.png", window=args.window, trials=args.hippo_days)
     plot_switch(summary, out / f"{stem}_goal_switch.png")
-    print(summary["headline_markdown"])
+    print(document["headline_markdown"])
     print()
-    print(summary["switch_markdown"])
-    return summary
+    print(document["switch_markdown"])
+    return document
