@@ -33,11 +33,11 @@ class Args:
     seeds: int = 5
     """seeds 0 .. seeds-1 per agent and maze"""
     budget: int = 300_000
-    """environment steps per seed for dqn, ppo and random in the learning day"""
+    """environment steps per seed for dqn, ppo and random in the learning trial"""
     dynaq_budget: int = 100_000
     """environment steps per seed for the privileged Dyna-Q (it converges long before)"""
     switch_budget: int = 50_000
-    """at most this many steps in the goal-switch day (0: no goal switch)"""
+    """at most this many steps in the goal-switch trial (0: no goal switch)"""
     dense_agents: tuple[str, ...] = ("dqn", "ppo")
     """agents also run with reward_type='dense' (the generous variant)"""
     dense_mazes: tuple[str, ...] = ("open",)
@@ -45,11 +45,11 @@ class Args:
     dense_seeds: int = 3
     """seeds for the dense variant"""
     hippo_days: int = 10
-    """fresh-agent DMTP days per seed for the hippocampal agent (replicates)"""
+    """fresh-agent DMTP trials per seed for the hippocampal agent (replicates)"""
     hippo_runs: int = 40
-    """runs per hippocampal day (run 1 explores; the rest show whether it stays direct)"""
+    """runs per hippocampal trial (run 1 explores; the rest show whether it stays direct)"""
     window: int = 10
-    """episodes pooled per seed for success rate and median indirectness"""
+    """runs pooled per seed for success rate and median indirectness"""
     max_episode_steps: int = 0
     """per-run step limit (0: the environment's 10,000)"""
     engine: str = "local"

@@ -51,11 +51,11 @@ def plot_curves(summary: Summary, path: Path, window: int, trials: int) -> None:
                 ax.set_yscale("log")
                 ax.set_ylim(0.05, 1000)
                 ax.set_ylabel("median indirectness" if col == 0 else "")
-                ax.set_xlabel("environment steps (pre-exploration included)")
+                ax.set_xlabel("environment steps (dry run included)")
             ax.grid(alpha=0.3, which="both", lw=0.4)
     axes[0, 0].legend(fontsize=8, loc="upper left")
     fig.suptitle(
-        f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {window - 1} before it; hippo: {trials} fresh-agent days per seed)",
+        f"IQM over seeds, 95 % stratified-bootstrap CI\n(per seed at x: each replicate's run in progress and the {window - 1} before it; hippo: {trials} fresh-agent trials per seed)",
         fontsize=9,
     )
     fig.tight_layout()
@@ -74,7 +74,7 @@ def plot_switch(summary: Summary, path: Path) -> None:
     variants = summary.variants
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     width = 0.8 / max(len(mazes), 1)
-    for k, label in enumerate(("episodes", "steps")):
+    for k, label in enumerate(("runs", "steps")):
         ax = axes[k]
         for j, maze in enumerate(mazes):
             for i, v in enumerate(variants):
@@ -97,13 +97,13 @@ def plot_switch(summary: Summary, path: Path) -> None:
         ax.set_xticks(range(len(variants)), [v + (" (priv.)" if v == "dynaq" else "") for v in variants], rotation=30, ha="right")
         ax.set_yscale("log")
         ax.set_ylim(0.8, None)
-        ax.set_ylabel(("episodes + 1" if label == "episodes" else "steps") + " before direct again")
+        ax.set_ylabel(("runs + 1" if label == "runs" else "steps") + " before direct again")
         ax.grid(alpha=0.3, which="both", lw=0.4)
     if axes[0].get_legend_handles_labels()[0]:
         axes[0].legend(title="maze (open marker: never)", fontsize=8)
     fig.suptitle(
         "Goal switch: once an agent is direct on its goal, the goal moves; cost of becoming direct again\n"
-        "(one point per seed that was direct on the first goal; open marker: not direct again within the switch day)",
+        "(one point per seed that was direct on the first goal; open marker: not direct again within the switch trial)",
         fontsize=9,
     )
     fig.tight_layout()

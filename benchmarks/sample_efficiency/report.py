@@ -41,7 +41,7 @@ def headline_markdown(summary: Summary) -> str:
 def switch_markdown(summary: Summary) -> str:
     """The goal-switch table as Markdown: runs and steps before direct again."""
     mazes = summary.mazes
-    lines = ["| agent | " + " | ".join(f"{m}: episodes | {m}: steps" for m in mazes) + " |", "|" + "---|" * (1 + 2 * len(mazes))]
+    lines = ["| agent | " + " | ".join(f"{m}: runs | {m}: steps" for m in mazes) + " |", "|" + "---|" * (1 + 2 * len(mazes))]
     for row in summary.headline:
         name = row.agent + (" (privileged)" if row.privileged else "")
         cells = []
