@@ -32,9 +32,9 @@ one flat vector by :class:`hippomaze.baselines.sb3_agents.ScanFeatures` (the bri
 - ``n_bins`` mean-pools the 720 rays into ``n_bins`` equal sectors (720 -> 90: 4 degrees each).
 - The (cos, sin) heading is appended.
 
-Day structure and the goal switch
----------------------------------
-The agents learn online from every ``observe`` call during one long DMTP day (``n_timesteps``
+Trial structure and the goal switch
+-----------------------------------
+The agents learn online from every ``observe`` call during one long DMTP trial (``n_timesteps``
 sets the length of the schedules: DQN's epsilon decay and any ``lin_`` schedule). When the goal
 moves (``start_trial`` after experience, the same signal the hippocampal agent gets) and
 ``reset_on_new_goal`` is true, DQN empties its replay buffer (its rewards belong to the old goal)
@@ -47,8 +47,8 @@ The tuning sweep
 ``python -m benchmarks.sample_efficiency --sweep`` (see :data:`SWEEP` for the grid and
 ``docs/baselines.md`` for its outcome and what it taught). Run on ``open`` with the sparse reward, 100,000
 steps, seeds 100 and 101 (not the benchmark's seeds 0-4), scored by the number of steps to the
-criterion (median indirectness <= 1 with >= 90 % success over a window of 10 episodes) and, failing
-that, by the success rate of the last 50 episodes. The defaults below are the winners.
+criterion (median indirectness <= 1 with >= 90 % success over a window of 10 runs) and, failing
+that, by the success rate of the last 50 runs. The defaults below are the winners.
 """
 
 from __future__ import annotations

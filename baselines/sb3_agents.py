@@ -234,7 +234,7 @@ class _SB3Agent:
         return 1.0 - (self.num_timesteps - self.schedule_origin) / max(self.schedule_length, 1)
 
     def start_trial(self, trial: int) -> None:
-        """A new DMTP day. After any experience this means the goal has moved (see ``reset_on_new_goal``)."""
+        """A new DMTP trial. After any experience this means the goal has moved (see ``reset_on_new_goal``)."""
         if self.num_timesteps > 0:
             self.goal_switches += 1
             if self.params.reset_on_new_goal:

@@ -1,6 +1,6 @@
 """DMTP in every maze: the hippocampal agent's runs 2-4 indirectness, per maze and seed.
 
-``python -m benchmarks.maze_suite --model default --seeds 0 1`` runs 20 days x 4 runs in the
+``python -m benchmarks.maze_suite --model default --seeds 0 1`` runs 20 trials x 4 runs in the
 built-in mazes and 5 generated ones (``hippo_env.generate``, seeds 100-104, never looked at while
 tuning) and writes ``benchmarks/results/maze_suite_<model>.json``: per maze and seed the median
 indirectness of each run, of runs 2-4 together, the share of runs 2-4 that reached the goal, and
@@ -34,13 +34,13 @@ class SuiteArgs:
     seeds: tuple[int, ...] = (0, 1)
     """runner seeds"""
     trials: int = 20
-    """days per maze and seed"""
+    """trials per maze and seed"""
     mazes: tuple[str, ...] = ()
     """mazes to run ('' = the built-in ones and the generated ones); gen-walls-100 names a generated one"""
     workers: int = 2
     """processes"""
     dry_run_steps: int = -1
-    """pre-exploration steps (-1: the config's default)"""
+    """dry-run steps (-1: the config's default)"""
     config: str = ""
     """more AgentConfig fields as JSON, e.g. '{"pi_motion_noise": 0.05}'"""
     env: str = ""
@@ -92,16 +92,16 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
         "runs_2_4_reached": float(ok[:, 1:].mean()),
         "runs_2_4_below_1": float((later < 1).mean()),
         "pearson_run1_length_run2_indirectness": summary.get("pearson_run1_length_run2_indirectness"),
-        "run1_lengths": [e.path_length for e in result.episodes if e.run == 0],
-        "run2_indirectness": [e.indirectness for e in result.episodes if e.run == 1],
+        "run1_lengths": [r.path_length for r in result.run_records if r.run == 0],
+        "run2_indirectness": [r.indirectness for r in result.run_records if r.run == 1],
         "env_steps_total": result.env_steps_total,
         "cpu_seconds": time.process_time() - began,
     }
 
 
 def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
-    """Per maze, every seed's days together: the run-1 length vs run-2 indirectness correlation
-    (Pearson r with a 95 % bootstrap interval over days; the paper's Fig. 6 gives r = -0.53)."""
+    """Per maze, every seed's trials together: the run-1 length vs run-2 indirectness correlation
+    (Pearson r with a 95 % bootstrap interval over trials; the paper's Fig. 6 gives r = -0.53)."""
     from hippomaze.paper.statistics import pearson_with_ci
 
     out: dict[str, dict[str, Any]] = {}
@@ -111,7 +111,7 @@ def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
         second = [np.nan if x is None else x for r in mine for x in r["run2_indirectness"]]
         out[maze] = {
             "seeds": [r["seed"] for r in mine],
-            "days": len(lengths),
+            "days": len(lengths),  # trials (the key committed results have)
             "pearson_run1_length_run2_indirectness": pearson_with_ci(np.array(lengths), np.array(second), seed=0),
         }
     return out

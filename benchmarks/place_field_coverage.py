@@ -42,7 +42,7 @@ def main(argv: list[str] | None = None) -> None:
         env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
         env.reset(seed=args.seed)
         agent = HippocampalAgent(env.observation_space, env.action_space, seed=args.seed)
-        agent.prepare(env)
+        agent.dry_run(env)
         spec = env.unwrapped.maze
         grid = grid_positions(spec.size, spacing=args.spacing, margin=0.0)
         grid = grid[spec.free_mask(grid, ROBOT_RADIUS)]

@@ -1,15 +1,15 @@
 """HippocampalAgent: the paper's model (head direction, BVC, place and reward cells) as a policy.
 
-The agent follows the protocol in :mod:`hippo_env.agent_protocol` (``prepare`` / ``start_trial`` /
+The agent follows the protocol in :mod:`hippo_env.agent_protocol` (``dry_run`` / ``start_trial`` /
 ``reset`` / ``act`` / ``observe``). It sees only the observation (the rangefinder scan and the
 compass heading), the reward, and the bump sensor ``info["collision"]``; never the position or
 the goal.
 
 Behaviour (paper section "Modes of Operation"):
 
-- ``prepare(env)``: the dry run. Goal-free exploration for ``config.dry_run_steps`` steps with only
+- ``dry_run(env)``: the dry run. Goal-free exploration for ``config.dry_run_steps`` steps with only
   the BVC -> place weights plastic (eq. 5), to clean up the place fields.
-- ``start_trial``: a new DMTP day; a new reward cell for the new goal.
+- ``start_trial``: a new DMTP trial; a new reward cell for the new goal.
 - Each step, if the current goal's reward map is known where the agent is, it preplays one step
   in each of the ``n_hd`` directions (eq. 8), reads their values (eq. 9), heads along their
   value-weighted circular mean (eq. 10) and depresses the active cells' reward weights (eq. 11).
@@ -76,7 +76,7 @@ class HippocampalAgent:
     Attributes:
         hd, bvc, place, reward: the four cell populations (``hippo_agent.cells``).
         last_decision: ``"explore"`` or ``"exploit"``, how the last action was chosen.
-        episode_stats: counters for the current episode (explore/exploit steps, bumps).
+        episode_stats: counters for the current run (explore/exploit steps, bumps).
     """
 
     def __init__(
@@ -118,10 +118,10 @@ class HippocampalAgent:
         self._dir_sin = np.sin(self._directions)
 
         # behaviour state
-        self.phase = "trial"  # "dry" inside prepare(), else "trial"
+        self.phase = "trial"  # "dry" inside dry_run(), else "trial"
         self.trial = -1
         self.goal_rewarded = False  # the current goal's reward map has been learnt at least once
-        self.started = False  # reset() has been called for the current episode
+        self.started = False  # reset() has been called for the current run
         self.intended_heading = 0.0  # exploration's continuous intended heading (rad)
         self.segment_left = 0  # exploration steps left in the current straight segment
         self.escape_left = 0  # exploration steps left after a bump while exploiting
@@ -180,7 +180,7 @@ class HippocampalAgent:
         raise ValueError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
 
     # ================================================================== protocol
-    def prepare(self, env: Any) -> None:
+    def dry_run(self, env: Any) -> None:
         """The dry run: explore goal-free for ``config.dry_run_steps`` steps, only eq. 5 plastic.
 
         Resets ``env`` with ``options={"goal": None}`` (and again whenever it truncates).
@@ -203,8 +203,15 @@ class HippocampalAgent:
             self.phase = "trial"
             self.started = False
 
+    def prepare(self, env: Any) -> None:
+        """Deprecated: the former name of :meth:`dry_run`."""
+        import warnings
+
+        warnings.warn("HippocampalAgent.prepare is deprecated: call dry_run", DeprecationWarning, stacklevel=2)
+        self.dry_run(env)
+
     def start_trial(self, trial: int) -> None:
-        """A new DMTP day: the goal has moved, so a new reward cell takes over."""
+        """A new DMTP trial: the goal has moved, so a new reward cell takes over."""
         self.trial = int(trial)
         self.reward.add_goal()
         self.goal_rewarded = False

@@ -100,7 +100,7 @@ class AgentConfig:
     alpha_pb: float = math.sqrt(0.5)
     """Oja normalising factor alpha_pb of eq. 5 (model-figures: sqrt(0.5))."""
     settle_steps: int = 5
-    """Eq.-3 updates run from rest on the first observation of an episode, so a robot put down at
+    """Eq.-3 updates run from rest on the first observation of a run, so a robot put down at
     a new start does not carry the previous place's activity; an implementation choice (the
     paper's robot is reintroduced with its network state unspecified)."""
     analysis_settle_steps: int = 30
@@ -138,7 +138,7 @@ class AgentConfig:
     # ---------------------------------------------------------------- exploitation (eqs. 8-11)
     lambda_: float = 0.05
     """Depression lambda of eq. 11, applied to the effective reward weights of the active place
-    cells at each exploitation decision, reset each episode (model-figures: 0.2; feasibility: 0
+    cells at each exploitation decision, reset each run (model-figures: 0.2; feasibility: 0
     loops, 0.2 makes a self-avoiding search, 0.05 best; tuned: 0.02 and 0.1 both did worse)."""
     xi: float = 1e-3
     """Explore/exploit threshold xi: exploit only if the best preplayed direction's value (eq. 9)
@@ -172,9 +172,9 @@ class AgentConfig:
 
     # ---------------------------------------------------------------- schedule
     dry_run_steps: int = 5000
-    """Goal-free steps in ``prepare`` with only BVC -> place learning on (paper: a dry run;
+    """Goal-free steps in ``dry_run`` with only BVC -> place learning on (paper: a dry run;
     model-figures: about 25,000 updates; feasibility: 5,000 works almost as well; the README's
-    pre-exploration table measures shorter ones)."""
+    dry-run length table measures shorter ones)."""
     learn_pb_in_trials: bool = True
     """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
     exploration; model-figures: learning stays on in runs 2-4)."""

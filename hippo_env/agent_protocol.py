@@ -9,23 +9,26 @@ An agent is any object with these methods (structural typing: no base class need
         def act(self, observation): ...                   # an action from env.action_space
         def observe(self, action, observation, reward, terminated, truncated, info) -> None: ...
         # optional:
-        def prepare(self, env) -> None: ...               # pre-exploration, with no goal
-        def start_trial(self, trial: int) -> None: ...    # a new day: the goal has moved
+        def dry_run(self, env) -> None: ...               # the dry run, with no goal
+        def start_trial(self, trial: int) -> None: ...    # a new trial: the goal has moved
 
-When each is called, for every day (trial) of a DMTP experiment:
+When each is called, for every trial of a DMTP experiment:
 
-1. the agent is built (a fresh one per day unless the runner is told otherwise) and, if it has
-   ``prepare``, given the environment with no goal in it for its pre-exploration;
-2. ``start_trial(day)``: the goal has moved;
+1. the agent is built (a fresh one per trial unless the runner is told otherwise) and, if it has
+   ``dry_run``, given the environment with no goal in it for its dry run;
+2. ``start_trial(trial)``: the goal has moved;
 3. for each run: ``reset(observation, info)``, then ``act`` / ``observe`` for every step until the
    run ends (the goal reached, or the step limit).
 
-``prepare`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
+``dry_run`` receives the environment with no goal in it (``info["goal"]`` is NaN, nothing
 terminates) and may step and reset it as often as it likes; every one of those steps counts in
 ``env_steps_total``. An agent that claims to navigate from its senses reads, of ``info``, only
 ``is_success``, ``collision``, ``heading`` and ``sim_time``; not ``position``, ``goal``,
 ``path_length``, ``shortest_path_length`` or ``indirectness``. The runner does not hide them, so
 that privileged reference agents can be written too (label them so).
+
+``dry_run`` was called ``prepare`` before: an agent that still defines only ``prepare`` is given
+its dry run there, with a ``DeprecationWarning`` (:func:`hippo_env.dmtp.dry_run_method`).
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ REQUIRED_METHODS = ("reset", "act", "observe")
 
 @runtime_checkable
 class Agent(Protocol):
-    """Every method the runner may call; ``prepare`` and ``start_trial`` are optional (the runner
+    """Every method the runner may call; ``dry_run`` and ``start_trial`` are optional (the runner
     calls them only if the agent has them), so ``isinstance`` checks the three required ones."""
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
@@ -61,11 +64,11 @@ class AgentBase:
         self.action_space = action_space
         self.seed = seed
 
-    def prepare(self, env: gym.Env) -> None:
-        """Pre-exploration with no goal in ``env`` (optional; does nothing here)."""
+    def dry_run(self, env: gym.Env) -> None:
+        """The dry run: exploration with no goal in ``env`` (optional; does nothing here)."""
 
     def start_trial(self, trial: int) -> None:
-        """A new day: the goal has moved (optional; does nothing here)."""
+        """A new trial: the goal has moved (optional; does nothing here)."""
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
         raise NotImplementedError

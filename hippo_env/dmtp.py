@@ -1,7 +1,7 @@
 """The delayed-match-to-place (DMTP) experiment: the runner, its records, and the act -> step ->
 observe loop every agent is driven by.
 
-:func:`run_dmtp` runs ``trials`` days, each with a new goal, of ``runs`` runs each, with any agent
+:func:`run_dmtp` runs ``trials`` trials, each with a new goal, of ``runs`` runs each, with any agent
 that follows the Agent protocol (:mod:`hippo_env.agent_protocol`). Goals and starts are drawn by
 the runner from its own seeded generator, so every agent given the same seed faces exactly the
 same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent.
@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import math
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -20,15 +21,15 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from hippo_env.agent_protocol import AgentFactory, missing_methods
+from hippo_env.agent_protocol import AgentBase, AgentFactory, missing_methods
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
 
 
 @dataclass
-class Episode:
-    """One run of one trial, as recorded in ``dmtp.json``."""
+class Run:
+    """One run of one trial, as recorded in ``dmtp.json`` (under its key ``"episodes"``)."""
 
     trial: int
     run: int
@@ -45,8 +46,9 @@ class Episode:
 class DMTPResult:
     """Everything a DMTP experiment produced. ``paths[trial][run]`` is an (n, 2) array of positions.
 
-    ``complete`` is False when the experiment was interrupted (Ctrl-C) before every trial ran:
-    ``episodes`` then holds only the runs that finished.
+    ``run_records`` holds one :class:`Run` per finished run, in order (``dmtp.json`` keeps them under
+    ``"episodes"``). ``complete`` is False when the experiment was interrupted (Ctrl-C) before every
+    trial ran: ``run_records`` then holds only the runs that finished.
     """
 
     maze: str
@@ -55,7 +57,7 @@ class DMTPResult:
     trials: int
     runs: int
     env_steps_total: int = 0
-    episodes: list[Episode] = field(default_factory=list)
+    run_records: list[Run] = field(default_factory=list)
     paths: list[list[np.ndarray]] = field(default_factory=list)
     seconds: float = 0.0
     complete: bool = True
@@ -76,8 +78,14 @@ class DMTPResult:
         }
         if not self.complete:
             record["complete"] = False
-        record["episodes"] = [jsonable(asdict(e)) for e in self.episodes]
+        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the key committed records have
         return record
+
+    @property
+    def episodes(self) -> list[Run]:
+        """Deprecated: the former name of :attr:`run_records`."""
+        warnings.warn("DMTPResult.episodes is deprecated: use run_records", DeprecationWarning, stacklevel=2)
+        return self.run_records
 
     def save(self, out_dir: str | Path) -> Path:
         """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``, each atomically."""
@@ -91,23 +99,23 @@ class DMTPResult:
     def indirectness(self) -> np.ndarray:
         """A (trials, runs) array of indirectness (NaN where not recorded)."""
         table = np.full((self.trials, self.runs), np.nan)
-        for e in self.episodes:
-            table[e.trial, e.run] = e.indirectness
+        for r in self.run_records:
+            table[r.trial, r.run] = r.indirectness
         return table
 
     def success(self) -> np.ndarray:
         """A (trials, runs) boolean array: which runs reached the goal."""
         table = np.zeros((self.trials, self.runs), dtype=bool)
-        for e in self.episodes:
-            table[e.trial, e.run] = e.success
+        for r in self.run_records:
+            table[r.trial, r.run] = r.success
         return table
 
     def summary(self) -> dict[str, Any]:
         """Per-run medians, success rates, and the run-1 length vs run-2 indirectness correlation."""
         ind, ok = self.indirectness(), self.success()
         lengths = np.full((self.trials, self.runs), np.nan)
-        for e in self.episodes:
-            lengths[e.trial, e.run] = e.path_length
+        for r in self.run_records:
+            lengths[r.trial, r.run] = r.path_length
         later = ind[:, 1:]
         summary: dict[str, Any] = {
             "median_indirectness": [
@@ -138,8 +146,8 @@ class RolloutEnd:
 def rollout(
     env: gym.Env, agent: Any, observation: Any, *, max_steps: int | None = None, keep_going: Callable[[], bool] | None = None
 ) -> RolloutEnd:
-    """Drive ``agent`` from ``observation``: ``act``, ``env.step``, ``observe``, until the episode
-    ends, ``max_steps`` steps were taken, or ``keep_going()`` (asked after each step) is False.
+    """Drive ``agent`` from ``observation``: ``act``, ``env.step``, ``observe``, until the run ends
+    (terminated or truncated), ``max_steps`` steps were taken, or ``keep_going()`` (asked after each step) is False.
 
     The caller resets the env and the agent first. With ``max_steps=0`` nothing happens.
     """
@@ -155,7 +163,7 @@ def rollout(
 
 
 class _CountingEnv(gym.Wrapper):
-    """Counts every step taken through it; during pre-exploration it refuses to place a goal."""
+    """Counts every step taken through it; during the dry run it refuses to place a goal."""
 
     def __init__(self, env: gym.Env, allow_goal: bool) -> None:
         super().__init__(env)
@@ -164,7 +172,7 @@ class _CountingEnv(gym.Wrapper):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal")):
-            raise ValueError("an agent may not place a goal during pre-exploration; reset without 'goal' or 'new_goal'")
+            raise ValueError("an agent may not place a goal during its dry run; reset without 'goal' or 'new_goal'")
         return self.env.reset(seed=seed, options=options)
 
     def step(self, action: Any):
@@ -188,24 +196,24 @@ def run_dmtp(
     progress: bool = True,
     on_run_end: Callable[[int, int, Any, gym.Env], None] | None = None,
 ) -> DMTPResult:
-    """Run the delayed-match-to-place protocol and record every episode.
+    """Run the delayed-match-to-place protocol and record every run.
 
     Args:
         make_agent: ``make_agent(observation_space, action_space, seed=seed)`` returns an agent
             (an agent class taking ``seed=`` fits, e.g. ``HippocampalAgent``).
         maze: A built-in maze name, a JSON path or a spec.
-        trials: Days, each with a new goal.
-        runs: Runs per day; the first is naive about the new goal.
+        trials: Trials, each with a new goal.
+        runs: Runs per trial; the first is naive about the new goal.
         seed: Seeds the goals, starts, environment and agents.
         agent_name: The name recorded in the result.
         same_start: Start every run of a trial from the same place (the paper's Fig. 3).
-        fresh_agent_per_trial: A new agent (and its pre-exploration) for each trial, making trials
+        fresh_agent_per_trial: A new agent (and its dry run) for each trial, making trials
             independent replicates; otherwise one agent lives through every trial.
         env_kwargs: More arguments for ``gym.make("HippoMaze-v0", ...)``. A factory may carry its
             own ``env_kwargs`` attribute, the sensors its agent needs (the hippocampal agent's
             factory asks for ``odometry=True``); these come first, ``env_kwargs`` overrides them.
         max_episode_steps: Overrides the registered limit of 10,000 steps per run.
-        step_budget: Stop once this many environment steps (pre-exploration included) have been
+        step_budget: Stop once this many environment steps (the dry run included) have been
             taken; the run cut short by the budget is not recorded, its steps are counted.
         progress: Show a progress bar.
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
@@ -229,10 +237,10 @@ def run_dmtp(
     bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
     env.reset(seed=int(seed), options={"goal": None})
     agent = None
-    prepared_steps = 0
+    dry_run_steps = 0
 
     def budget_left() -> bool:
-        return step_budget is None or prepared_steps + counted.steps < step_budget
+        return step_budget is None or dry_run_steps + counted.steps < step_budget
 
     try:
         for trial in range(trials):
@@ -245,11 +253,12 @@ def run_dmtp(
             if agent is None or fresh_agent_per_trial:
                 agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
                 _check_agent(agent)
-                if callable(getattr(agent, "prepare", None)):
+                dry_run = dry_run_method(agent)
+                if dry_run is not None:
                     env.reset(options={"goal": None})
                     explorer = _CountingEnv(env, allow_goal=False)
-                    agent.prepare(explorer)
-                    prepared_steps += explorer.steps
+                    dry_run(explorer)
+                    dry_run_steps += explorer.steps
             if callable(getattr(agent, "start_trial", None)):
                 agent.start_trial(trial)
             trial_paths: list[np.ndarray] = []
@@ -265,8 +274,8 @@ def run_dmtp(
                     break  # cut short by the step budget: not a run
                 info = end.info
                 trial_paths.append(env.unwrapped.path.copy())
-                result.episodes.append(
-                    Episode(
+                result.run_records.append(
+                    Run(
                         trial=trial,
                         run=run,
                         steps=counted.steps - steps_before,
@@ -281,22 +290,22 @@ def run_dmtp(
                 if on_run_end is not None:
                     on_run_end(trial, run, agent, env)
                 if bar is not None:
-                    bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.episodes[-1].indirectness:.2f}")
+                    bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.run_records[-1].indirectness:.2f}")
                     bar.update(1)
     except KeyboardInterrupt:
-        # Keep what finished, consistently: a run counts once its episode is recorded.
+        # Keep what finished, consistently: a run counts once it is recorded.
         result.complete = False
-        done = [sum(e.trial == t for e in result.episodes) for t in range(len(result.paths))]
+        done = [sum(r.trial == t for r in result.run_records) for t in range(len(result.paths))]
         result.paths = [paths[:n] for paths, n in zip(result.paths, done)]
         while result.paths and not result.paths[-1]:
             result.paths.pop()
-        result.env_steps_total = prepared_steps + counted.steps
+        result.env_steps_total = dry_run_steps + counted.steps
         result.seconds = time.perf_counter() - began
         if bar is not None:
             bar.close()
         env.close()
         raise DMTPInterrupted(result) from None
-    result.env_steps_total = prepared_steps + counted.steps
+    result.env_steps_total = dry_run_steps + counted.steps
     result.seconds = time.perf_counter() - began
     if bar is not None:
         bar.close()
@@ -311,8 +320,22 @@ class DMTPInterrupted(KeyboardInterrupt):
     """
 
     def __init__(self, result: DMTPResult) -> None:
-        super().__init__(f"interrupted after {len(result.episodes)} of {result.trials * result.runs} runs")
+        super().__init__(f"interrupted after {len(result.run_records)} of {result.trials * result.runs} runs")
         self.result = result
+
+
+def dry_run_method(agent: Any) -> Callable[[gym.Env], None] | None:
+    """The agent's dry run (its ``dry_run`` method), or None if it has none.
+
+    ``prepare`` is the dry run's former name: an agent that defines ``prepare`` but no ``dry_run``
+    of its own (``AgentBase``'s no-op does not count) gets its dry run there, with a ``DeprecationWarning``.
+    """
+    dry_run = getattr(agent, "dry_run", None)
+    prepare = getattr(agent, "prepare", None)
+    if callable(prepare) and (not callable(dry_run) or getattr(dry_run, "__func__", None) is AgentBase.dry_run):
+        warnings.warn(f"{type(agent).__name__}.prepare is the dry run's former name: rename it dry_run", DeprecationWarning, stacklevel=2)
+        return prepare
+    return dry_run if callable(dry_run) else None
 
 
 def _check_agent(agent: Any) -> None:
@@ -331,4 +354,11 @@ def _progress(total: int, description: str, enabled: bool):
     return tqdm(total=total, desc=description, unit="run")
 
 
-__all__ = ["DMTPInterrupted", "DMTPResult", "Episode", "RolloutEnd", "rollout", "run_dmtp"]
+def __getattr__(name: str) -> Any:
+    if name == "Episode":  # the former name of Run
+        warnings.warn("hippo_env.dmtp.Episode is deprecated: use Run", DeprecationWarning, stacklevel=2)
+        return Run
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = ["DMTPInterrupted", "DMTPResult", "RolloutEnd", "Run", "dry_run_method", "rollout", "run_dmtp"]

@@ -37,7 +37,7 @@ class HippoMazeEnv(gym.Env):
     possibly with obstacles, searches for a hidden goal disk. It senses its surroundings only
     through an omnidirectional rangefinder and a compass, as in Alabi, Vanderelst and Minai's
     model of hippocampal navigation. Following DMTP, the goal stays in place across
-    :meth:`reset` calls (one "day" of runs) until moved with ``options``.
+    :meth:`reset` calls (one trial of runs) until moved with ``options``.
 
     ## Action Space
     - ``action_type="discrete"`` (default): ``Discrete(8)``; action ``k`` turns the robot in place
@@ -77,11 +77,11 @@ class HippoMazeEnv(gym.Env):
     ## Info
     Every step: ``position`` and ``goal``, each a float array ``[x, y]`` of shape (2,) (so vector
     environments stack them as (n, 2) floats), ``heading`` (rad), ``is_success``,
-    ``path_length`` (m since reset), ``shortest_path_length`` (m, geodesic from the episode's
+    ``path_length`` (m since reset), ``shortest_path_length`` (m, geodesic from the run's
     start to the goal disk's edge around obstacles inflated by the robot's radius),
     ``collision`` (a wall blocked the robot this step) and ``sim_time`` (simulated seconds since
-    reset, turns included). On the step that ends an episode, ``indirectness`` =
-    (path_length - shortest) / shortest. In a goal-free episode the goal and path figures are NaN.
+    reset, turns included). On the step that ends a run, ``indirectness`` =
+    (path_length - shortest) / shortest. After a goal-free reset the goal and path figures are NaN.
 
     ## Arguments
     - ``maze``: a built-in name (``"open"``, ``"maze1"`` ... ``"maze4"``), a path to a maze JSON
@@ -93,19 +93,19 @@ class HippoMazeEnv(gym.Env):
     - ``action_type``: ``"discrete"``, ``"heading"``, ``"heading_normalized"`` or ``"wheels"``.
     - ``reward_type``: ``"sparse"`` or ``"dense"``.
     - ``goal_radius`` (0.3 m), ``min_start_distance`` (1.0 m from the goal centre).
-    - ``goal``: ``[x, y]``, the first day's goal; or ``goal_seed``: an integer from which the first
-      day's goal is drawn, whatever the reset seed. Two environments made with the same ``goal``
+    - ``goal``: ``[x, y]``, the first trial's goal; or ``goal_seed``: an integer from which the first
+      trial's goal is drawn, whatever the reset seed. Two environments made with the same ``goal``
       or ``goal_seed`` share their goal (e.g. a training and an evaluation env). Without either,
       the maze's ``"goal"`` is used, else the first ``reset`` draws one with its seed.
     - ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_rays`` draws the rays.
     - ``path_limit`` (100,000): the most positions :attr:`path` keeps per run (the latest ones),
       so that a goal-free run of any length uses bounded memory; ``None`` keeps them all.
 
-    ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new day),
+    ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new trial),
     ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
     ``{"start": [x, y], "heading": rad}`` (the start pose; each may be given alone).
     Random starts keep 1 m from the current goal, so ``reset(seed=s)`` on an environment whose
-    goal was moved earlier in the day may start elsewhere than on a fresh one: the day's goal is
+    goal was moved earlier in the trial may start elsewhere than on a fresh one: the trial's goal is
     part of the state, as DMTP requires.
 
     ## Version History
@@ -378,7 +378,7 @@ class HippoMazeEnv(gym.Env):
         return point
 
     def _choose_first_goal(self, goal: Any, goal_seed: Any) -> np.ndarray | None:
-        """The goal of the first day: the ``goal`` argument, one drawn with ``goal_seed``, the maze's, or None (drawn at reset)."""
+        """The goal of the first trial: the ``goal`` argument, one drawn with ``goal_seed``, the maze's, or None (drawn at reset)."""
         if goal is not None and goal_seed is not None:
             raise ValueError("give either goal=[x, y] or goal_seed=int, not both")
         if goal is not None:
@@ -437,7 +437,7 @@ class HippoMazeEnv(gym.Env):
 
 
 def add_indirectness(info: dict[str, Any]) -> None:
-    """Put ``indirectness`` = (path_length - shortest) / shortest in an episode's last info."""
+    """Put ``indirectness`` = (path_length - shortest) / shortest in a run's last info."""
     shortest = info["shortest_path_length"]
     if math.isfinite(shortest) and shortest > 0:
         info["indirectness"] = (info["path_length"] - shortest) / shortest

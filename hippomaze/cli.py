@@ -43,8 +43,8 @@ def main(argv: list[str] | None = None) -> int:
 
     dmtp = commands.add_parser("dmtp", help="run the delayed-match-to-place experiment", description=run_dmtp_command.__doc__)
     dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
-    dmtp.add_argument("--trials", type=int, default=20, help="days, each with a new goal (default: 20)")
-    dmtp.add_argument("--runs", type=int, default=4, help="runs per day (default: 4)")
+    dmtp.add_argument("--trials", type=int, default=20, help="trials, each with a new goal (default: 20)")
+    dmtp.add_argument("--runs", type=int, default=4, help="runs per trial (default: 4)")
     dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
     dmtp.add_argument(
         "--agent",
@@ -119,7 +119,7 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
         partial = interrupt.result
         path = partial.save(out)
         print(
-            f"hippomaze: interrupted; saved the {len(partial.episodes)} finished runs of {partial.trials * partial.runs} "
+            f"hippomaze: interrupted; saved the {len(partial.run_records)} finished runs of {partial.trials * partial.runs} "
             f'to {path} (marked "complete": false)',
             file=sys.stderr,
         )
@@ -193,7 +193,7 @@ def _write_agent_maps(maps: dict[str, Any], result: Any, maze: Any, out: Path) -
 
     written: list[Path] = []
     if "reward_values" in maps:
-        goal = result.episodes[0].goal
+        goal = result.run_records[0].goal
         fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
         plot_trajectories([maps["run1_path"]], axes[0], maze=maze, goal=goal, title="trial 1, run 1 (exploring)")
         plot_reward_map(maps["reward_grid"], maps["reward_values"], axes[1], maze=maze, goal=goal, title="reward map after run 1")

@@ -51,11 +51,11 @@ def plot_length_vs_indirectness(result: DMTPResult, ax: Any = None) -> tuple[Any
     fig, ax = plt.subplots(figsize=(5, 4)) if ax is None else (ax.figure, ax)
     lengths = np.full(result.trials, np.nan)
     second = np.full(result.trials, np.nan)
-    for e in result.episodes:
-        if e.run == 0:
-            lengths[e.trial] = e.path_length
-        elif e.run == 1:
-            second[e.trial] = e.indirectness
+    for r in result.run_records:
+        if r.run == 0:
+            lengths[r.trial] = r.path_length
+        elif r.run == 1:
+            second[r.trial] = r.indirectness
     ax.scatter(lengths, second, s=15)
     r = result.summary().get("pearson_run1_length_run2_indirectness")
     ax.set_xlabel("run 1 path length (m)")
@@ -76,12 +76,12 @@ def plot_trial_paths(result: DMTPResult, trial: int, maze: MazeSpec | str, axes:
         axes = axes[0]
     else:
         fig = np.ravel(axes)[0].figure
-    episodes = {e.run: e for e in result.episodes if e.trial == trial}
+    records = {r.run: r for r in result.run_records if r.trial == trial}
     for run, (ax, path) in enumerate(zip(np.ravel(axes), runs)):
-        e = episodes[run]
-        plot_trajectories([path], ax, maze=spec, goal=e.goal)
-        mark = "" if e.success else " (not reached)"
-        ax.set_title(f"trial {trial + 1}, run {run + 1}: {e.indirectness:.2f}{mark}", fontsize="small")
+        record = records[run]
+        plot_trajectories([path], ax, maze=spec, goal=record.goal)
+        mark = "" if record.success else " (not reached)"
+        ax.set_title(f"trial {trial + 1}, run {run + 1}: {record.indirectness:.2f}{mark}", fontsize="small")
         ax.set_xticks([])
         ax.set_yticks([])
     return fig, axes
@@ -130,7 +130,7 @@ def format_table(result: DMTPResult) -> str:
         lines.append(
             f"Pearson r, run 1 path length vs run 2 indirectness: {summary['pearson_run1_length_run2_indirectness']:.2f} (paper: -0.53)"
         )
-    lines.append(f"environment steps, pre-exploration included: {result.env_steps_total:,}")
+    lines.append(f"environment steps, the dry run included: {result.env_steps_total:,}")
     return "\n".join(lines)
 
 

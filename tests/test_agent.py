@@ -45,7 +45,7 @@ def make_env(maze="open", action_type="discrete", seed=0, **kw):
     return env
 
 
-def run_episode(env, agent, options=None, max_steps=10_000):
+def drive_run(env, agent, options=None, max_steps=10_000):
     obs, info = env.reset(options=options)
     agent.reset(obs, info)
     positions, actions = [info["position"]], []
@@ -169,7 +169,7 @@ def test_protocol_and_dry_run_in_the_real_env(paper):
     config = AgentConfig.paper(n_place=200, dry_run_steps=400) if paper else AgentConfig(n_place=200, dry_run_steps=400)
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=3)
     W0 = agent.place.W_pb.copy()
-    agent.prepare(env)
+    agent.dry_run(env)
     assert not np.array_equal(agent.place.W_pb, W0)  # eq. 5 learnt in the dry run
     if paper:
         assert np.all(agent.place.W_pp == 0)  # ... and only eq. 5 (the paper's dry run)
@@ -179,7 +179,7 @@ def test_protocol_and_dry_run_in_the_real_env(paper):
         assert (agent.place.centre_mass > 0).sum() > 20  # cells learnt where they fire
     assert agent.reward.n == 0
     agent.start_trial(0)
-    _, _, actions = run_episode(env, agent, options={"new_goal": True}, max_steps=300)
+    _, _, actions = drive_run(env, agent, options={"new_goal": True}, max_steps=300)
     assert all(env.action_space.contains(a) for a in actions)
     assert np.any(agent.place.W_pp != 0)  # eq. 7 learns in runs
     assert agent.reward.n == 1
@@ -188,14 +188,14 @@ def test_protocol_and_dry_run_in_the_real_env(paper):
 def test_dry_run_resets_on_truncation():
     env = make_env(seed=0, max_episode_steps=50)
     agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=100, dry_run_steps=180), seed=0)
-    agent.prepare(env)
+    agent.dry_run(env)
     assert agent.total_steps == 180
 
 
 def test_exploration_is_a_random_walk_of_straight_segments():
     env = make_env(seed=1)
     agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=100, discrete_rounding="nearest"), seed=1)
-    _, positions, actions = run_episode(env, agent, options={"goal": None}, max_steps=2000)
+    _, positions, actions = drive_run(env, agent, options={"goal": None}, max_steps=2000)
     actions = np.array(actions)
     assert set(actions) == set(range(8))  # all directions get used
     runs = np.diff(np.flatnonzero(np.diff(actions) != 0))
@@ -247,9 +247,9 @@ def test_determinism_by_seed(action_type):
     def trajectory(agent_seed):
         env = make_env(action_type=action_type, seed=7)
         agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=200, dry_run_steps=300), seed=agent_seed)
-        agent.prepare(env)
+        agent.dry_run(env)
         agent.start_trial(0)
-        _, positions, actions = run_episode(env, agent, options={"goal": [1.0, 1.0]}, max_steps=400)
+        _, positions, actions = drive_run(env, agent, options={"goal": [1.0, 1.0]}, max_steps=400)
         return positions, np.asarray(actions, dtype=float), agent
 
     p1, a1, ag1 = trajectory(11)
@@ -275,12 +275,12 @@ def test_exploitation_reaches_the_goal_after_one_rewarded_run(small_maze, paper)
     for seed in range(5):
         env = make_env(small_maze, seed=seed)
         agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=seed)
-        agent.prepare(env)
+        agent.dry_run(env)
         agent.start_trial(0)
         start = {"start": [-1.3, -1.3], "heading": 0.0}
-        info1, _, _ = run_episode(env, agent, options={"goal": [1.2, 1.2], **start})
+        info1, _, _ = drive_run(env, agent, options={"goal": [1.2, 1.2], **start})
         assert info1["is_success"] and agent.goal_rewarded
-        info2, _, _ = run_episode(env, agent, options=start, max_steps=400)
+        info2, _, _ = drive_run(env, agent, options=start, max_steps=400)
         results.append((info2["is_success"], info2.get("indirectness", np.inf), agent.episode_stats["exploit"]))
     assert all(ok for ok, _, _ in results), results
     assert all(n_exploit > 0 for _, _, n_exploit in results), results
@@ -295,9 +295,9 @@ def test_analysis_maps_and_plots(small_maze):
 
     env = make_env(small_maze, seed=0)
     agent = HippocampalAgent(env.observation_space, env.action_space, SMALL, seed=0)
-    agent.prepare(env)
+    agent.dry_run(env)
     agent.start_trial(0)
-    _, positions, _ = run_episode(env, agent, options={"goal": [1.0, 1.0]})
+    _, positions, _ = drive_run(env, agent, options={"goal": [1.0, 1.0]})
     grid = plots.grid_positions((4.0, 4.0), spacing=0.4)
     fields = agent.place_field_map(env, grid)
     assert fields.shape == (len(grid), 300) and np.all(fields >= 0)

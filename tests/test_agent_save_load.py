@@ -128,7 +128,7 @@ def test_round_trip_is_exact(tmp_path, action_space):
     np.testing.assert_array_equal(agent.reward.W_rp, loaded.reward.W_rp)
 
 
-def test_round_trip_mid_episode_continues_identically(tmp_path):
+def test_round_trip_mid_run_continues_identically(tmp_path):
     env, agent = trained_agent()
     obs = env.obs()
     agent.save(tmp_path / "mid.npz")

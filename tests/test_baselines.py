@@ -31,10 +31,10 @@ TINY_PPO = {"n_steps": 64, "batch_size": 16, "n_epochs": 1, "n_timesteps": 600}
 RUN = {"trials": 1, "runs": 200, "max_episode_steps": 150, "progress": False, "fresh_agent_per_trial": False}
 
 
-def _episodes(result):
+def _runs(result):
     """Every run's outcome and the positions it went through."""
     ends = [np.round(path, 9).tolist() for runs in result.paths for path in runs]
-    return [(e.steps, e.success, round(e.path_length, 9)) for e in result.episodes], ends
+    return [(e.steps, e.success, round(e.path_length, 9)) for e in result.run_records], ends
 
 
 @pytest.fixture(scope="module")
@@ -87,7 +87,7 @@ class TestRegistry:
         result = run_dmtp(
             agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0, max_episode_steps=200, progress=False
         )
-        assert len(result.episodes) == 1 and result.env_steps_total > 100
+        assert len(result.run_records) == 1 and result.env_steps_total > 100
 
 
 # ------------------------------------------------------------------------------------------ features
@@ -152,9 +152,9 @@ class TestSB3Agents:
                 obs, info = env.reset()
                 other.reset(obs, info)
         second = run_dmtp(agent_factory(name, **tiny), "open", seed=1, step_budget=500, **RUN)
-        assert _episodes(first) == _episodes(second) and first.episodes
+        assert _runs(first) == _runs(second) and first.run_records
         third = run_dmtp(agent_factory(name, **tiny), "open", seed=2, step_budget=500, **RUN)
-        assert _episodes(third) != _episodes(first)
+        assert _runs(third) != _runs(first)
 
     def test_goal_switch_signal(self, name, tiny, env):
         agent = agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=0)
@@ -249,9 +249,9 @@ class TestDynaQ:
 
         result = run_dmtp(factory, "open", trials=1, runs=2000, seed=0, progress=False, fresh_agent_per_trial=False, step_budget=25_000)
         assert made[0].privileged
-        late = result.episodes[-10:]
+        late = result.run_records[-10:]
         assert all(e.success for e in late)
-        assert np.median([e.indirectness for e in late]) < 3.0 < result.episodes[0].indirectness
+        assert np.median([e.indirectness for e in late]) < 3.0 < result.run_records[0].indirectness
 
     def test_goal_switch_keeps_the_map(self, env):
         agent = agent_factory("dynaq")(env.observation_space, env.action_space, seed=0)

@@ -56,8 +56,8 @@ def test_dmtp_writes_contract_record_and_figures(tmp_path, capsys):
     assert record["maze"] == "maze1" and record["agent"] == "random" and record["seed"] == 3
     assert len(record["episodes"]) == 4
     keys = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
-    for episode in record["episodes"]:
-        assert set(episode) == keys
+    for run in record["episodes"]:
+        assert set(run) == keys
     assert record["env_steps_total"] == sum(e["steps"] for e in record["episodes"])
     for name in ("indirectness.png", "run1_length_vs_run2_indirectness.png", "paths_trial01.png", "paths_trial02.png"):
         assert (out / name).stat().st_size > 1000

@@ -32,7 +32,7 @@ def test_goal_stays_across_resets():
         assert tuple(info["goal"]) == goal
         starts.add(tuple(info["position"]))
     assert len(starts) == 10
-    # Even a seeded reset keeps the day's goal.
+    # Even a seeded reset keeps the trial's goal.
     _, info = env.reset(seed=123)
     assert tuple(info["goal"]) == goal
 

@@ -1,5 +1,5 @@
 """The DMTP runner and the Agent protocol: well-formed records, reproducibility, step counting,
-pre-exploration rules and agent loading."""
+dry-run rules and agent loading."""
 
 from __future__ import annotations
 
@@ -10,26 +10,26 @@ import numpy as np
 import pytest
 from hippomaze.baselines import RandomAgent
 
-from hippo_env.dmtp import DMTPResult, run_dmtp
+from hippo_env.dmtp import DMTPResult, Run, run_dmtp
 from hippomaze.registry import load_agent_class
 
-EPISODE_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
+RUN_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
 TINY = {"trials": 2, "runs": 2, "max_episode_steps": 200, "progress": False, "env_kwargs": {"n_rays": 32}}
 
 
-class PreparingAgent(RandomAgent):
-    """A random agent whose pre-exploration takes exactly ``PREPARE_STEPS`` steps (with a reset midway)."""
+class DryRunningAgent(RandomAgent):
+    """A random agent whose dry run takes exactly ``DRY_RUN_STEPS`` steps (with a reset midway)."""
 
-    PREPARE_STEPS = 37
+    DRY_RUN_STEPS = 37
 
     def __init__(self, observation_space, action_space, seed=None):
         super().__init__(observation_space, action_space, seed=seed)
-        self.prepared_goals = []
+        self.dry_run_goals = []
 
-    def prepare(self, env):
+    def dry_run(self, env):
         _, info = env.reset()
-        self.prepared_goals.append(info["goal"])
-        for k in range(self.PREPARE_STEPS):
+        self.dry_run_goals.append(info["goal"])
+        for k in range(self.DRY_RUN_STEPS):
             if k == 20:
                 env.reset(options={"goal": None})  # allowed: still goal-free
             _, _, terminated, _, info = env.step(self.act(None))
@@ -37,12 +37,12 @@ class PreparingAgent(RandomAgent):
 
 
 class GoalPlacingAgent(RandomAgent):
-    def prepare(self, env):
+    def dry_run(self, env):
         env.reset(options={"goal": [1.0, 1.0]})
 
 
 class NewGoalAgent(RandomAgent):
-    def prepare(self, env):
+    def dry_run(self, env):
         env.reset(options={"new_goal": True})
 
 
@@ -62,25 +62,25 @@ def test_records_are_complete_and_well_formed(random_result, tmp_path):
     record = result.to_dict()
     assert set(record) == {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "episodes"}
     assert (record["maze"], record["agent"], record["seed"], record["trials"], record["runs"]) == ("maze1", "random", 3, 2, 2)
-    episodes = record["episodes"]
-    assert [(e["trial"], e["run"]) for e in episodes] == [(0, 0), (0, 1), (1, 0), (1, 1)]
-    for e in episodes:
-        assert set(e) == EPISODE_KEYS
-        assert isinstance(e["steps"], int) and 1 <= e["steps"] <= 200
-        assert isinstance(e["success"], bool)
-        assert e["success"] or e["steps"] == 200
-        assert len(e["start"]) == 2 and len(e["goal"]) == 2
-        assert math.dist(e["start"], e["goal"]) >= 1.0
-        assert 0 < e["shortest_path_length"] and 0 <= e["path_length"] <= e["steps"] * 0.15 + 1e-9
-        assert e["indirectness"] == pytest.approx((e["path_length"] - e["shortest_path_length"]) / e["shortest_path_length"])
+    runs = record["episodes"]
+    assert [(r["trial"], r["run"]) for r in runs] == [(0, 0), (0, 1), (1, 0), (1, 1)]
+    for r in runs:
+        assert set(r) == RUN_KEYS
+        assert isinstance(r["steps"], int) and 1 <= r["steps"] <= 200
+        assert isinstance(r["success"], bool)
+        assert r["success"] or r["steps"] == 200
+        assert len(r["start"]) == 2 and len(r["goal"]) == 2
+        assert math.dist(r["start"], r["goal"]) >= 1.0
+        assert 0 < r["shortest_path_length"] and 0 <= r["path_length"] <= r["steps"] * 0.15 + 1e-9
+        assert r["indirectness"] == pytest.approx((r["path_length"] - r["shortest_path_length"]) / r["shortest_path_length"])
     # The goal is the same within a trial and moves between trials.
-    assert episodes[0]["goal"] == episodes[1]["goal"] != episodes[2]["goal"] == episodes[3]["goal"]
-    assert record["env_steps_total"] == sum(e["steps"] for e in episodes)
+    assert runs[0]["goal"] == runs[1]["goal"] != runs[2]["goal"] == runs[3]["goal"]
+    assert record["env_steps_total"] == sum(r["steps"] for r in runs)
     # Paths: one (steps + 1, 2) array per run, starting at the start.
-    for e in episodes:
-        path = result.paths[e["trial"]][e["run"]]
-        assert path.shape == (e["steps"] + 1, 2)
-        np.testing.assert_allclose(path[0], e["start"])
+    for r in runs:
+        path = result.paths[r["trial"]][r["run"]]
+        assert path.shape == (r["steps"] + 1, 2)
+        np.testing.assert_allclose(path[0], r["start"])
     # Saved as strict JSON (NaN written as null), with the paths alongside.
     saved = result.save(tmp_path)
     assert json.loads(saved.read_text()) == json.loads(json.dumps(record, allow_nan=False))
@@ -103,30 +103,69 @@ def test_same_seed_same_records(random_result):
 
 def test_same_start_option():
     result = run_dmtp(RandomAgent, maze="open", seed=0, same_start=True, **TINY)
-    episodes = result.to_dict()["episodes"]
-    assert episodes[0]["start"] == episodes[1]["start"] and episodes[2]["start"] == episodes[3]["start"]
+    runs = result.to_dict()["episodes"]
+    assert runs[0]["start"] == runs[1]["start"] and runs[2]["start"] == runs[3]["start"]
 
 
 @pytest.mark.parametrize("fresh", [True, False])
-def test_env_steps_total_counts_pre_exploration(fresh):
+def test_env_steps_total_counts_the_dry_run(fresh):
     agents = []
 
     def make(observation_space, action_space, seed=None):
-        agents.append(PreparingAgent(observation_space, action_space, seed=seed))
+        agents.append(DryRunningAgent(observation_space, action_space, seed=seed))
         return agents[-1]
 
     result = run_dmtp(make, maze="open", seed=1, fresh_agent_per_trial=fresh, **TINY)
-    preparations = 2 if fresh else 1
-    assert len(agents) == preparations
-    assert all(math.isnan(g[0]) for a in agents for g in a.prepared_goals)  # no goal during pre-exploration
-    run_steps = sum(e.steps for e in result.episodes)
-    assert result.env_steps_total == preparations * PreparingAgent.PREPARE_STEPS + run_steps
+    dry_runs = 2 if fresh else 1
+    assert len(agents) == dry_runs
+    assert all(math.isnan(g[0]) for a in agents for g in a.dry_run_goals)  # no goal during the dry run
+    run_steps = sum(r.steps for r in result.run_records)
+    assert result.env_steps_total == dry_runs * DryRunningAgent.DRY_RUN_STEPS + run_steps
 
 
 @pytest.mark.parametrize("agent", [GoalPlacingAgent, NewGoalAgent])
-def test_placing_a_goal_during_prepare_is_refused(agent):
-    with pytest.raises(ValueError, match="may not place a goal during pre-exploration"):
+def test_placing_a_goal_during_the_dry_run_is_refused(agent):
+    with pytest.raises(ValueError, match="may not place a goal during its dry run"):
         run_dmtp(agent, maze="open", seed=0, **TINY)
+
+
+class OldStyleAgent(RandomAgent):
+    """An agent written before the dry run's rename: it defines only ``prepare``."""
+
+    def prepare(self, env):
+        env.reset()
+        for _ in range(DryRunningAgent.DRY_RUN_STEPS):
+            env.step(self.act(None))
+
+
+def test_an_agent_with_only_prepare_still_gets_its_dry_run_with_a_deprecation_warning():
+    from hippo_env.agent_protocol import AgentBase
+
+    class OldStyleBaseAgent(AgentBase):  # AgentBase's no-op dry_run does not hide the agent's own prepare
+        prepare = OldStyleAgent.prepare
+
+        def reset(self, observation, info):
+            pass
+
+        def act(self, observation):
+            return 0
+
+        def observe(self, action, observation, reward, terminated, truncated, info):
+            pass
+
+    for agent in (OldStyleAgent, OldStyleBaseAgent):
+        with pytest.warns(DeprecationWarning, match=f"{agent.__name__}.prepare is the dry run's former name: rename it dry_run"):
+            result = run_dmtp(agent, maze="open", seed=1, **TINY)
+        assert result.env_steps_total == 2 * DryRunningAgent.DRY_RUN_STEPS + sum(r.steps for r in result.run_records)
+
+
+def test_the_former_names_still_work_with_a_deprecation_warning(random_result):
+    import hippo_env.dmtp
+
+    with pytest.warns(DeprecationWarning, match="use run_records"):
+        assert random_result.episodes is random_result.run_records
+    with pytest.warns(DeprecationWarning, match="use Run"):
+        assert hippo_env.dmtp.Episode is Run
 
 
 def test_agent_missing_methods_is_refused():
@@ -169,7 +208,7 @@ def test_agent_base_gives_the_optional_hooks():
             pass
 
     result = run_dmtp(Still, maze="open", trials=1, runs=2, max_episode_steps=5, progress=False)
-    assert [e.steps for e in result.episodes] == [5, 5]
+    assert [r.steps for r in result.run_records] == [5, 5]
     assert isinstance(Still(None, None), Agent)
     with pytest.raises(NotImplementedError):
         AgentBase(None, None).act(None)
@@ -186,7 +225,7 @@ def test_agents_registered_by_entry_point(monkeypatch):
     ]
     monkeypatch.setattr(registry, "entry_points", lambda group: [p for p in points if p.group == group])
     result = run_dmtp(registry.agent_factory("mine"), maze="open", trials=1, runs=1, max_episode_steps=5, progress=False)
-    assert result.episodes[0].steps == 5
+    assert result.run_records[0].steps == 5
     with pytest.raises(ValueError, match="agent 'broken' .*did not load"):
         registry.agent_factory("broken")
     with pytest.raises(ValueError, match="one registered by an installed package \\(broken, mine\\)"):

@@ -1,5 +1,5 @@
 """The sample-efficiency benchmark: tiny-budget smoke runs (records complete and well-formed for every
-agent, pre-exploration counted, resumable), the local pool and Ray giving the same records, and the
+agent, the dry run counted, resumable), the local pool and Ray giving the same records, and the
 analysis (pooling, steps to criterion, IQM intervals, the headline's "> budget")."""
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ class TestQuickRun:
             assert record is not None, name
             assert {"job", "name", "privileged", "learn", "agent_config", "seconds"} <= set(record)
             assert record["privileged"] == (record["job"]["agent"] == "dynaq")
-            # a goal-switch day only for an agent that became direct on its first goal
+            # a goal-switch trial only for an agent that became direct on its first goal
             assert ("switch" in record) == (record["learn"]["direct_at"] is not None)
             for phase in [p for p in ("learn", "switch") if p in record]:
                 p = record[phase]
@@ -71,7 +71,7 @@ class TestQuickRun:
                 assert all(isinstance(b, bool) for b in columns["success"])
                 assert all(v is None or (isinstance(v, float) and math.isfinite(v)) for v in columns["indirectness"])
                 assert all(len(xy) == 2 for xy in columns["start"] + columns["goal"])
-                # every step is accounted for: pre-exploration + recorded runs + a run cut by the budget
+                # every step is accounted for: dry run + recorded runs + a run cut by the budget
                 assert p["cut_steps"] >= 0
                 assert p["env_steps_total"] == sum(p["prepare_steps"]) + sum(columns["steps"]) + p["cut_steps"]
             job = record["job"]
@@ -84,10 +84,10 @@ class TestQuickRun:
         record = _records(out)["hippo__open__sparse__seed0"]
         dry = jobs.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
         learn = record["learn"]
-        assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per day
+        assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per trial
         assert learn["env_steps_total"] >= 2 * dry + sum(learn["episodes"]["steps"])
         reps = metrics.replicates(learn)
-        assert [r.start[0] for r in reps] == [dry, dry]  # each day's first run starts after its dry run
+        assert [r.start[0] for r in reps] == [dry, dry]  # each trial's first run starts after its dry run
 
     def test_summary_and_figures(self, quick):
         out, _ = quick
@@ -118,10 +118,10 @@ class TestQuickRun:
         assert _strip(jobs.load_record(path).to_dict()) == _strip(original.to_dict())
 
 
-class PreparingAgent(RandomAgent):
-    """A random agent with a 123-step pre-exploration."""
+class DryRunningAgent(RandomAgent):
+    """A random agent with a 123-step dry run."""
 
-    def prepare(self, env):
+    def dry_run(self, env):
         env.reset()
         for _ in range(123):
             env.step(env.action_space.sample())
@@ -141,8 +141,10 @@ class GoalSeeker(RandomAgent):
         self.info = info
 
 
-def test_goal_switch_day():
-    job = jobs.Job("test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, days=1, runs=400, max_episode_steps=300)
+def test_goal_switch_trial():
+    job = jobs.Job(
+        "test_sample_efficiency:GoalSeeker", "open", 0, budget=1500, switch_budget=600, trials=1, runs=400, max_episode_steps=300
+    )
     record = jobs.run_job(job)
     assert record.learn["direct_at"] == 0
     switch = record.switch
@@ -152,8 +154,9 @@ def test_goal_switch_day():
     assert metrics.switch_cost(switch, window=10) == (0, 0)
 
 
-def test_pre_exploration_counts_for_any_agent():
-    job = jobs.Job("test_sample_efficiency:PreparingAgent", "open", 0, budget=0, switch_budget=0, days=2, runs=2, max_episode_steps=100)
+def test_the_dry_run_counts_for_any_agent():
+    job = jobs.Job("test_sample_efficiency:DryRunningAgent", "open", 0, budget=0, switch_budget=0, trials=2, runs=2, max_episode_steps=100)
+    assert job.spec()["days"] == 2  # the key the committed records have
     record = jobs.run_job(job)
     learn = record.learn
     assert learn["prepare_steps"] == [123, 123]
@@ -216,53 +219,50 @@ class TestAnalysis:
         assert metrics.metrics_at([rep], 3000 + 6 * 40 + 1, window=10) == (0.7, 0.2)
 
     def test_the_run_in_progress_counts(self):
-        # hippo-like days: a dry run, one exploring run, then direct runs. A day is not direct before its
-        # run 2 starts (day d: at 2500 + 100 d); the seed's figure is the median over its 10 days.
-        days = [_rep([2000 + 100 * d] + [40] * 40, [True] * 41, [20.0] + [0.1] * 40, offset=500) for d in range(10)]
-        assert [metrics.replicate_steps_to_criterion(d, window=10) for d in days] == [2500.0 + 100 * d for d in range(10)]
-        assert metrics.steps_to_criterion(days, window=10) == 2950.0
-        same = [days[0]] * 10  # run 1 ends at 2500, then a run every 40 steps
+        # hippo-like trials: a dry run, one exploring run, then direct runs. A trial is not direct before its
+        # run 2 starts (trial t: at 2500 + 100 t); the seed's figure is the median over its 10 trials.
+        trials = [_rep([2000 + 100 * t] + [40] * 40, [True] * 41, [20.0] + [0.1] * 40, offset=500) for t in range(10)]
+        assert [metrics.replicate_steps_to_criterion(t, window=10) for t in trials] == [2500.0 + 100 * t for t in range(10)]
+        assert metrics.steps_to_criterion(trials, window=10) == 2950.0
+        same = [trials[0]] * 10  # run 1 ends at 2500, then a run every 40 steps
         ok, ind, running = metrics.recent_at(same, 1000, window=10)  # the dry run or run 1 under way
         assert running == 10 and ok.size == 10 and np.all(ind == 20.0)
         ok, ind, _ = metrics.recent_at(same, 2500 + 4 * 40, window=10)
         assert ok.size == 60 and np.sum(ind == 20.0) == 10  # run 1, 4 more done, the 6th in progress
         ok, ind, _ = metrics.recent_at(same, 2500 + 20 * 40, window=10)
-        assert ok.size == 100 and np.all(ind == 0.1)  # run 1 has left every day's window of 10
+        assert ok.size == 100 and np.all(ind == 0.1)  # run 1 has left every trial's window of 10
 
-    def test_seeds_whose_days_are_mostly_never_direct_never_are(self):
-        direct_day = _rep([1000] + [40] * 20, [True] * 21, [20.0] + [0.1] * 20)
-        wandering_day = _rep([1000] * 21, [True] * 21, [20.0] * 21)
-        assert metrics.steps_to_criterion([direct_day] * 2 + [wandering_day] * 3, window=10) is None
-        assert metrics.steps_to_criterion([direct_day] * 3 + [wandering_day] * 2, window=10) == 1000.0
+    def test_seeds_whose_trials_are_mostly_never_direct_never_are(self):
+        direct_trial = _rep([1000] + [40] * 20, [True] * 21, [20.0] + [0.1] * 20)
+        wandering_trial = _rep([1000] * 21, [True] * 21, [20.0] * 21)
+        assert metrics.steps_to_criterion([direct_trial] * 2 + [wandering_trial] * 3, window=10) is None
+        assert metrics.steps_to_criterion([direct_trial] * 3 + [wandering_trial] * 2, window=10) == 1000.0
 
     def test_no_measurement_once_most_replicates_have_ended(self):
-        # 4 fast days end at 1000 steps, 1 slow day runs on: past 1000 only the slow day is left
-        days = [_rep([500, 500], [True, True], [0.5, 0.5]) for _ in range(4)] + [_rep([500] + [2000] * 5, [True] * 6, [0.5] + [30.0] * 5)]
-        assert metrics.metrics_at(days, 600, window=1) == (1.0, 0.5)
-        assert all(math.isnan(v) for v in metrics.metrics_at(days, 1500, window=1))
+        # 4 fast trials end at 1000 steps, 1 slow trial runs on: past 1000 only the slow trial is left
+        trials = [_rep([500, 500], [True, True], [0.5, 0.5]) for _ in range(4)] + [_rep([500] + [2000] * 5, [True] * 6, [0.5] + [30.0] * 5)]
+        assert metrics.metrics_at(trials, 600, window=1) == (1.0, 0.5)
+        assert all(math.isnan(v) for v in metrics.metrics_at(trials, 1500, window=1))
 
     def test_never_direct(self):
         rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
         assert metrics.steps_to_criterion([rep], window=10) is None
         cell = summary.summarize_steps([None, None, 5000.0], budget=300_000)
-        assert cell["median_steps"] is None and cell["reached"] == 1
-        assert report.fmt_steps(cell["median_steps"], 300_000) == "> 300,000"
-        assert summary.ratio(cell, {"median_steps": 6000.0}) == "> 50"
+        assert cell.median_steps is None and cell.reached == 1
+        assert report.fmt_steps(cell.median_steps, 300_000) == "> 300,000"
+        assert summary.ratio(cell, summary.StepsToDirect(6000.0, 5, 5, None)) == "> 50"
 
     def test_no_ratio_when_the_hippo_is_never_direct(self):
-        never = {"median_steps": None, "reached": 1, "seeds": 5, "budget": None, "ratio_to_hippo": None}
-        reached = {"median_steps": 1000.0, "reached": 3, "seeds": 5, "budget": 300_000, "ratio_to_hippo": None}
-        summary = {
-            "mazes": ["maze1"],
-            "headline": [{"agent": "hippo", "privileged": False, "maze1": never}, {"agent": "dqn", "privileged": False, "maze1": reached}],
-        }
-        table = report.headline_markdown(summary).splitlines()
+        never = summary.HeadlineCell(summary.StepsToDirect(median_steps=None, reached=1, seeds=5, budget=None))
+        reached = summary.HeadlineCell(summary.StepsToDirect(median_steps=1000.0, reached=3, seeds=5, budget=300_000))
+        rows = [summary.HeadlineRow("hippo", False, {"maze1": never}), summary.HeadlineRow("dqn", False, {"maze1": reached})]
+        table = report.headline_markdown(summary.Summary(summary.Curves([], {}), {}, rows, ["hippo", "dqn"], ["maze1"])).splitlines()
         assert table[2] == "| hippo | never (1/5) | n/a |"
         assert table[3] == "| dqn | 1,000 (3/5) | n/a |"
 
     def test_median_over_seeds_counts_the_censored_ones(self):
         cell = summary.summarize_steps([1000.0, None, 3000.0], budget=10_000)
-        assert cell["median_steps"] == 3000.0  # [1000, 3000, inf]
+        assert cell.median_steps == 3000.0  # [1000, 3000, inf]
 
     def test_iqm_interval(self):
         values = np.array([1.0, 2.0, 3.0, 4.0, 100.0])
@@ -275,7 +275,7 @@ class TestAnalysis:
         assert all(math.isnan(v) for v in metrics.iqm_ci([np.array([np.nan])]))
 
     def test_switch_cost(self):
-        # an exploring first run, then direct ones: one episode (and its steps) to be direct again
+        # an exploring first run, then direct ones: one run (and its steps) to be direct again
         phase = {"trials": 1, "prepare_steps": [0], "episodes": {"trial": [0] * 12, "steps": [900] + [40] * 11,
                  "success": [True] * 12, "indirectness": [25.0] + [0.3] * 11}}  # fmt: skip
         assert metrics.switch_cost(phase, window=10) == (1, 900)

@@ -3,29 +3,29 @@
 Every agent goes through :func:`hippo_env.dmtp.run_dmtp`, on the same goals and starts for the
 same seed. A job is one (agent, maze, seed, reward type):
 
-1. **learn.** The hippocampal agent: ``--hippo-days`` DMTP days of ``--hippo-runs`` runs, a fresh
-   agent (and its dry run, counted) each day, so each day is one replicate of "an agent from birth".
-   The learners (DQN, PPO, random, and the privileged Dyna-Q): one long day, the goal held, random
+1. **learn.** The hippocampal agent: ``--hippo-days`` DMTP trials of ``--hippo-runs`` runs, a fresh
+   agent (and its dry run, counted) each trial, so each trial is one replicate of "an agent from birth".
+   The learners (DQN, PPO, random, and the privileged Dyna-Q): one long trial, the goal held, random
    starts, ``step_budget`` steps in all (``run_dmtp(..., trials=1, runs=<many>, step_budget=budget,
    fresh_agent_per_trial=False)``).
 2. **switch.** If that agent became direct on its goal (the criterion below, within its life), it
-   gets a new DMTP day: the goal moves (at least 2 m, a seed of the runner chosen for that) and the
+   gets a new DMTP trial: the goal moves (at least 2 m, a seed of the runner chosen for that) and the
    agent is told (``start_trial``), as the hippocampal agent always is. At most ``--switch-budget``
-   steps. An agent that never became direct has nothing to become direct *again* on: no switch day.
+   steps. An agent that never became direct has nothing to become direct *again* on: no switch trial.
 
-Measuring. Steps are counted from the agent's creation, pre-exploration included; every agent is
-measured by episodes alike (a wandering run of thousands of steps counts once). A replicate (hippo:
-a day; learners: their one day) is *direct* from x on when the ``--window`` episodes from its
-episode in progress at x on have >= 90 % successes and median indirectness <= 1.0, the one in
-progress being a direct success itself; its *steps to criterion* are the first episode start from
-which it is, and a seed's are the median over its replicates (hippo: its 10 days). The curves show,
-at x, each replicate's ``--window`` latest episodes (the one in progress and those before it: no
+Measuring. Steps are counted from the agent's creation, the dry run included; every agent is
+measured by runs alike (a wandering run of thousands of steps counts once). A replicate (hippo:
+a trial; learners: their one trial) is *direct* from x on when the ``--window`` runs from its
+run in progress at x on have >= 90 % successes and median indirectness <= 1.0, the one in
+progress being a direct success itself; its *steps to criterion* are the first run start from
+which it is, and a seed's are the median over its replicates (hippo: its 10 trials). The curves show,
+at x, each replicate's ``--window`` latest runs (the one in progress and those before it: no
 looking past the run under way), pooled over the seed's replicates; no point once fewer than half
-of them are still running (the days left late are the slow ones). The headline is the median over
+of them are still running (the trials left late are the slow ones). The headline is the median over
 seeds ("> budget" when fewer than half the seeds got there); the curves, the IQM over seeds with
 95 % bootstrap intervals (stratified over mazes for the "all mazes" panel),
-``scipy.stats.bootstrap``, percentile method. Goal switch: the episodes and steps of the new day
-before the first episode that starts a direct window.
+``scipy.stats.bootstrap``, percentile method. Goal switch: the runs and steps of the new trial
+before the first run that starts a direct window.
 
 Jobs run on a local process pool (``--engine local``, default) or on Ray (``--engine ray``, local
 ``ray.init()`` or ``--address`` of a cluster). Each job's record is written to

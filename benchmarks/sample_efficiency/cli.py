@@ -33,11 +33,11 @@ class Args:
     seeds: int = 5
     """seeds 0 .. seeds-1 per agent and maze"""
     budget: int = 300_000
-    """environment steps per seed for dqn, ppo and random in the learning day"""
+    """environment steps per seed for dqn, ppo and random in the learning trial"""
     dynaq_budget: int = 100_000
     """environment steps per seed for the privileged Dyna-Q (it converges long before)"""
     switch_budget: int = 50_000
-    """at most this many steps in the goal-switch day (0: no goal switch)"""
+    """at most this many steps in the goal-switch trial (0: no goal switch)"""
     dense_agents: tuple[str, ...] = ("dqn", "ppo")
     """agents also run with reward_type='dense' (the generous variant)"""
     dense_mazes: tuple[str, ...] = ("open",)
@@ -45,11 +45,11 @@ class Args:
     dense_seeds: int = 3
     """seeds for the dense variant"""
     hippo_days: int = 10
-    """fresh-agent DMTP days per seed for the hippocampal agent (replicates)"""
+    """fresh-agent DMTP trials per seed for the hippocampal agent (replicates)"""
     hippo_runs: int = 40
-    """runs per hippocampal day (run 1 explores; the rest show whether it stays direct)"""
+    """runs per hippocampal trial (run 1 explores; the rest show whether it stays direct)"""
     window: int = 10
-    """episodes pooled per seed for success rate and median indirectness"""
+    """runs pooled per seed for success rate and median indirectness"""
     max_episode_steps: int = 0
     """per-run step limit (0: the environment's 10,000)"""
     engine: str = "local"
@@ -98,18 +98,17 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     if not args.aggregate:
         return {"meta": meta, "records": records}
     if args.sweep:
-        summary = {**meta, **sweep_summary(records, args)}
-        write_json(out / "sample_efficiency_sweep.json", summary)
-        print(json.dumps(summary["rows"], indent=1))
-        return summary
-    summary = {**meta, **analyse({j.name: records[j.name] for j in jobs}, args)}
-    summary["headline_markdown"] = headline_markdown(summary)
-    summary["switch_markdown"] = switch_markdown(summary)
+        sweep = {**meta, **sweep_summary(records, args).to_dict()}
+        write_json(out / "sample_efficiency_sweep.json", sweep)
+        print(json.dumps(sweep["rows"], indent=1))
+        return sweep
+    summary = analyse({j.name: records[j.name] for j in jobs}, args)
+    document = {**meta, **summary.to_dict(), "headline_markdown": headline_markdown(summary), "switch_markdown": switch_markdown(summary)}
     stem = "sample_efficiency_quick" if args.quick else "sample_efficiency"
-    write_json(out / f"{stem}.json", summary)
-    plot_curves(summary, out / f"{stem}.png")
+    write_json(out / f"{stem}.json", document)
+    plot_curves(summary, out / f"{stem}.png", window=args.window, trials=args.hippo_days)
     plot_switch(summary, out / f"{stem}_goal_switch.png")
-    print(summary["headline_markdown"])
+    print(document["headline_markdown"])
     print()
-    print(summary["switch_markdown"])
-    return summary
+    print(document["switch_markdown"])
+    return document

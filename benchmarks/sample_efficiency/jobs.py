@@ -31,7 +31,7 @@ class Job:
     reward_type: str = "sparse"
     budget: int = 300_000
     switch_budget: int = 100_000
-    days: int = 1
+    trials: int = 1  # "days" in the record's ``job`` (the key committed records have)
     runs: int = 1
     max_episode_steps: int = 0
     overrides: tuple[tuple[str, Any], ...] = ()
@@ -43,7 +43,7 @@ class Job:
         return f"{label}__{self.maze}__{self.reward_type}__seed{self.seed}"
 
     def spec(self) -> dict[str, Any]:
-        d = dataclasses.asdict(self)
+        d = {("days" if k == "trials" else k): v for k, v in dataclasses.asdict(self).items()}
         d["overrides"] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.overrides}
         return d
 
@@ -88,14 +88,14 @@ def make_jobs(args: Args) -> list[Job]:
     ) -> None:
         switch = args.switch_budget if switch_budget is None else switch_budget
         if agent == "hippo":
-            days, runs, agent_budget = args.hippo_days, args.hippo_runs, 0
+            trials, runs, agent_budget = args.hippo_days, args.hippo_runs, 0
         else:
             agent_budget = budget if budget is not None else (args.dynaq_budget if agent == "dynaq" else args.budget)
-            days, runs = 1, agent_budget // 5 + 1  # a run takes >= 5 steps (>= 1 m at 0.15 m/step, less the goal radius)
+            trials, runs = 1, agent_budget // 5 + 1  # a run takes >= 5 steps (>= 1 m at 0.15 m/step, less the goal radius)
         overrides = dict(QUICK_OVERRIDES.get(agent, {})) if args.quick else {}
         overrides.update(learning_overrides(agent, agent_budget, switch))
         overrides.update(extra or {})
-        jobs.append(Job(agent, maze, seed, reward_type, agent_budget, switch, days, runs, mep, tuple(sorted(overrides.items())), label))
+        jobs.append(Job(agent, maze, seed, reward_type, agent_budget, switch, trials, runs, mep, tuple(sorted(overrides.items())), label))
 
     if args.sweep:
         from hippomaze.baselines.hyperparams import SWEEP
@@ -135,9 +135,10 @@ def make_jobs(args: Args) -> list[Job]:
 class JobRecord:
     """What one job did: stored as ``<out>/sample_efficiency/<job>.json.gz``, one JSON object with these keys in this order.
 
-    A phase (``learn``, and ``switch`` if the agent had a goal-switch day) is the runner's dmtp.json
-    fields with the episodes as columns, and the step ledger: ``prepare_steps`` (one entry per agent
-    created), ``cut_steps`` (a run cut by the step budget); ``learn`` adds ``direct_at`` (steps to
+    A phase (``learn``, and ``switch`` if the agent had a goal-switch trial) is the runner's dmtp.json
+    fields with the runs as columns (under ``episodes``, the dmtp.json key), and the step ledger:
+    ``prepare_steps`` (the dry run's steps, one entry per agent created), ``cut_steps`` (a run cut by
+    the step budget); ``learn`` adds ``direct_at`` (steps to
     criterion on the first goal, or None), ``switch`` adds ``old_goal``.
     """
 
@@ -146,7 +147,7 @@ class JobRecord:
     privileged: bool
     learn: dict[str, Any]
     agent_config: dict[str, Any] | None = None
-    switch: dict[str, Any] | None = None  # absent from the JSON when there was no goal-switch day
+    switch: dict[str, Any] | None = None  # absent from the JSON when there was no goal-switch trial
     seconds: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
@@ -164,7 +165,7 @@ class JobRecord:
 def switch_seed(maze: str, seed: int, old_goal: list[float], min_distance: float = 2.0) -> int:
     """A runner seed whose goal lies at least ``min_distance`` from ``old_goal`` (deterministic).
 
-    ``run_dmtp`` draws a day's goal first from ``numpy.random.default_rng(seed)``; this replays that draw.
+    ``run_dmtp`` draws a trial's goal first from ``numpy.random.default_rng(seed)``; this replays that draw.
     """
     from hippo_env.env import GOAL_CLEARANCE
     from hippo_env.maze import MazeSpec
@@ -178,20 +179,20 @@ def switch_seed(maze: str, seed: int, old_goal: list[float], min_distance: float
     raise RuntimeError(f"no goal at least {min_distance} m from {old_goal} in maze {maze!r}")
 
 
-def _columns(result: Any, prepare_steps: list[int]) -> dict[str, Any]:
-    """A DMTP result as a record: the dmtp.json fields, episodes as columns, and the step ledger."""
+def _columns(result: Any, dry_run_steps: list[int]) -> dict[str, Any]:
+    """A DMTP result as a record: the dmtp.json fields, the runs as columns, and the step ledger."""
     record = result.to_dict()
-    episodes = record.pop("episodes")
+    runs = record.pop("episodes")
     keys = ("trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal")
-    record["episodes"] = {k: [e[k] for e in episodes] for k in keys}
-    record["prepare_steps"] = [int(s) for s in prepare_steps]
-    record["cut_steps"] = int(result.env_steps_total - sum(prepare_steps) - sum(e["steps"] for e in episodes))
+    record["episodes"] = {k: [r[k] for r in runs] for k in keys}
+    record["prepare_steps"] = [int(s) for s in dry_run_steps]
+    record["cut_steps"] = int(result.env_steps_total - sum(dry_run_steps) - sum(r["steps"] for r in runs))
     return record
 
 
 def expected_steps(job: Job) -> int:
-    """Roughly the steps a job will take (for the progress bar): its budgets, or the hippo's days."""
-    learn = job.budget or job.days * (job.runs * 300 + 6000)
+    """Roughly the steps a job will take (for the progress bar): its budgets, or the hippo's trials."""
+    learn = job.budget or job.trials * (job.runs * 300 + 6000)
     return learn + (job.switch_budget if job.agent != "hippo" else min(job.switch_budget, job.runs * 300 + 1000))
 
 
@@ -222,17 +223,17 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
         "progress": False,
     }
     learn = run_dmtp(
-        factory, job.maze, trials=job.days, runs=job.runs, seed=job.seed, agent_name=job.agent,
-        fresh_agent_per_trial=job.days > 1, step_budget=job.budget or None, **common,
+        factory, job.maze, trials=job.trials, runs=job.runs, seed=job.seed, agent_name=job.agent,
+        fresh_agent_per_trial=job.trials > 1, step_budget=job.budget or None, **common,
     )  # fmt: skip
-    record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.prepare_steps for m in made]))
+    record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.dry_run_steps for m in made]))
     record.agent_config = agent_config(made[-1].agent)
     record.learn["direct_at"] = steps_to_criterion(replicates(record.learn)[-1:], window=SWITCH_WINDOW)
-    if job.switch_budget > 0 and learn.episodes and record.learn["direct_at"] is not None:
+    if job.switch_budget > 0 and learn.run_records and record.learn["direct_at"] is not None:
         agent = made[-1]
-        agent.skip_prepare = True
-        agent.trial_offset = job.days
-        old_goal = learn.episodes[-1].goal
+        agent.skip_dry_run = True
+        agent.trial_offset = job.trials
+        old_goal = learn.run_records[-1].goal
         sseed = switch_seed(job.maze, job.seed, old_goal)
         runs = job.runs if job.agent == "hippo" else job.switch_budget // 5 + 1
         switch = run_dmtp(

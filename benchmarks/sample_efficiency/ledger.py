@@ -1,23 +1,25 @@
-"""The step ledger of a job: the agent wrapper that counts pre-exploration steps and continues a life, and the progress file."""
+"""The step ledger of a job: the agent wrapper that counts dry-run steps and continues a life, and the progress file."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
+from hippo_env.dmtp import dry_run_method
+
 
 class Ledger:
-    """Wraps an agent for the runner: counts its pre-exploration steps, and can continue a life.
+    """Wraps an agent for the runner: counts its dry-run steps, and can continue a life.
 
-    ``prepare`` and ``start_trial`` exist on the wrapper only if the agent has them (the runner
-    looks them up with ``getattr``). ``skip_prepare`` hides ``prepare`` (an agent that lives on into
-    a goal-switch day does not get a second dry run); ``trial_offset`` numbers its days on.
+    ``dry_run`` and ``start_trial`` exist on the wrapper only if the agent has them (the runner
+    looks them up with ``getattr``). ``skip_dry_run`` hides ``dry_run`` (an agent that lives on into
+    a goal-switch trial does not get a second dry run); ``trial_offset`` numbers its trials on.
     """
 
     def __init__(self, agent: Any, progress: Any = None) -> None:
         self.agent = agent
-        self.prepare_steps = 0
-        self.skip_prepare = False
+        self.dry_run_steps = 0
+        self.skip_dry_run = False
         self.trial_offset = 0
         self.progress = progress
 
@@ -33,16 +35,18 @@ class Ledger:
             self.progress.step()
 
     def __getattr__(self, name: str) -> Any:
-        if name == "prepare" and not self.skip_prepare and callable(getattr(self.agent, "prepare", None)):
+        if name == "dry_run" and not self.skip_dry_run:
+            agent_dry_run = dry_run_method(self.agent)  # the agent's own, or its deprecated ``prepare``
+            if agent_dry_run is not None:
 
-            def prepare(env: Any) -> None:
-                before = env.steps
-                self.agent.prepare(env)
-                self.prepare_steps += env.steps - before
-                if self.progress is not None:
-                    self.progress.step(env.steps - before)
+                def dry_run(env: Any) -> None:
+                    before = env.steps
+                    agent_dry_run(env)
+                    self.dry_run_steps += env.steps - before
+                    if self.progress is not None:
+                        self.progress.step(env.steps - before)
 
-            return prepare
+                return dry_run
         if name == "start_trial" and callable(getattr(self.agent, "start_trial", None)):
             return lambda trial: self.agent.start_trial(trial + self.trial_offset)
         raise AttributeError(name)

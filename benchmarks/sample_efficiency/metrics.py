@@ -11,7 +11,7 @@ import numpy as np
 
 @dataclass
 class Replicate:
-    """One agent life: its episodes' start and end steps (from the agent's creation), outcomes."""
+    """One agent life: its runs' start and end steps (from the agent's creation), outcomes."""
 
     start: np.ndarray
     end: np.ndarray
@@ -20,34 +20,34 @@ class Replicate:
 
 
 def replicates(phase: dict[str, Any]) -> list[Replicate]:
-    """The replicates of a phase record: one per day, each day's agent being fresh (hippo) or the only one."""
-    ep = phase["episodes"]
-    trials = np.asarray(ep["trial"], int)
-    steps = np.asarray(ep["steps"], float)
-    success = np.asarray(ep["success"], bool)
-    ind = np.array([np.inf if v is None else v for v in ep["indirectness"]], float)
-    prepare = phase["prepare_steps"]
+    """The replicates of a phase record: one per trial, each trial's agent being fresh (hippo) or the only one."""
+    runs = phase["episodes"]  # the record's key for its runs
+    trials = np.asarray(runs["trial"], int)
+    steps = np.asarray(runs["steps"], float)
+    success = np.asarray(runs["success"], bool)
+    ind = np.array([np.inf if v is None else v for v in runs["indirectness"]], float)
+    dry_run = phase["prepare_steps"]  # the record's key for the dry runs' steps
     out = []
-    for t in range(len(prepare)):  # one entry per agent created: one per day
+    for t in range(len(dry_run)):  # one entry per agent created: one per trial
         mask = trials == t
-        end = prepare[t] + np.cumsum(steps[mask])
+        end = dry_run[t] + np.cumsum(steps[mask])
         out.append(Replicate(end - steps[mask], end, success[mask], ind[mask]))
     return out
 
 
-MIN_POOL = 5  # fewer pooled episodes than this: no measurement (NaN)
-SWITCH_WINDOW = 10  # episodes: the window of "direct on the first goal" inside a job
+MIN_POOL = 5  # fewer pooled runs than this: no measurement (NaN)
+SWITCH_WINDOW = 10  # runs: the window of "direct on the first goal" inside a job
 
 
 def recent_at(reps: list[Replicate], x: float, window: int) -> tuple[np.ndarray, np.ndarray, int]:
-    """Each replicate's ``window`` latest episodes at step x: the one in progress (or next) and those before it.
+    """Each replicate's ``window`` latest runs at step x: the one in progress (or next) and those before it.
 
     A learning curve that looks no further than the run under way. Every replicate is measured
-    alike, by episodes: a learner's one day and each hippocampal day give the same statistic, and
+    alike, by runs: a learner's one trial and each hippocampal trial give the same statistic, and
     a wandering run of thousands of steps counts once. A replicate whose runs are all done keeps
     its last window. Returns successes, indirectness, and how many replicates are still running at x.
     """
-    heads = [(r, int(np.searchsorted(r.end, x, side="right"))) for r in reps]  # the episode in progress at x
+    heads = [(r, int(np.searchsorted(r.end, x, side="right"))) for r in reps]  # the run in progress at x
     running = sum(i < r.end.size for r, i in heads)
     heads = [(r, min(i, r.end.size - 1)) for r, i in heads if r.end.size]
     if not heads:
@@ -58,10 +58,10 @@ def recent_at(reps: list[Replicate], x: float, window: int) -> tuple[np.ndarray,
 
 
 def metrics_at(reps: list[Replicate], x: float, window: int) -> tuple[float, float]:
-    """(success rate, median indirectness) of the latest episodes at x, the curves' point.
+    """(success rate, median indirectness) of the latest runs at x, the curves' point.
 
-    NaN when the pool holds fewer than MIN_POOL episodes, or fewer than half of the replicates are still
-    running: the days left late are the slow ones (wandering runs), and the curve would be theirs.
+    NaN when the pool holds fewer than MIN_POOL runs, or fewer than half of the replicates are still
+    running: the trials left late are the slow ones (wandering runs), and the curve would be theirs.
     """
     ok, ind, running = recent_at(reps, x, window)
     if ok.size < min(MIN_POOL, window) or 2 * running < len(reps):
@@ -70,11 +70,11 @@ def metrics_at(reps: list[Replicate], x: float, window: int) -> tuple[float, flo
 
 
 def direct_at(rep: Replicate, x: float, window: int) -> bool:
-    """One replicate is direct from x on: its episode in progress at x is a direct success, and so are the
-    ``window`` episodes from it on (>= 90 % successes, median indirectness <= 1).
+    """One replicate is direct from x on: its run in progress at x is a direct success, and so are the
+    ``window`` runs from it on (>= 90 % successes, median indirectness <= 1).
 
-    Looking at the episode in progress keeps the window that looks ahead from hiding it (a
-    hippocampal day's exploring first run is not hidden by the direct runs after it).
+    Looking at the run in progress keeps the window that looks ahead from hiding it (a
+    hippocampal trial's exploring first run is not hidden by the direct runs after it).
     """
     head = int(np.searchsorted(rep.end, x, side="right"))
     ok, ind = rep.success[head : head + window], rep.indirectness[head : head + window]
@@ -88,7 +88,7 @@ def direct(success: float, indirectness: float) -> bool:
 
 
 def replicate_steps_to_criterion(rep: Replicate, window: int) -> float | None:
-    """The first episode start (steps since the agent's creation) at which the replicate is direct; None if never."""
+    """The first run start (steps since the agent's creation) at which the replicate is direct; None if never."""
     for x in rep.start:
         if direct_at(rep, x, window):
             return float(x)
@@ -96,14 +96,14 @@ def replicate_steps_to_criterion(rep: Replicate, window: int) -> float | None:
 
 
 def steps_to_criterion(reps: list[Replicate], window: int) -> float | None:
-    """A seed's steps to criterion: the median over its replicates (hippo: its days), None if that is never."""
+    """A seed's steps to criterion: the median over its replicates (hippo: its trials), None if that is never."""
     steps = [replicate_steps_to_criterion(r, window) for r in reps]
     median = float(np.median([math.inf if s is None else s for s in steps]))
     return median if math.isfinite(median) else None
 
 
 def switch_cost(phase: dict[str, Any], window: int) -> tuple[int | None, int | None]:
-    """(episodes, steps) of the switch day before it is direct again; (None, None) if it never is."""
+    """(runs, steps) of the switch trial before it is direct again; (None, None) if it never is."""
     (rep,) = replicates(phase)
     for i in range(rep.end.size):
         if direct_at(rep, rep.start[i], window):

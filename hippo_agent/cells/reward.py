@@ -55,7 +55,7 @@ class RewardCells:
 
     A new cell (row of zeros) is added by :meth:`add_goal`; the last one is the current goal's.
     ``W_eff`` is the effective copy ``\\bar W^rp`` of the current goal's row that eq. 11 depresses
-    during an exploiting episode; :meth:`reset_effective` restores it from ``W_rp``.
+    during an exploiting run; :meth:`reset_effective` restores it from ``W_rp``.
 
     Args:
         n_place: number of place cells.
@@ -83,7 +83,7 @@ class RewardCells:
         return self.current
 
     def reset_effective(self) -> None:
-        """Start an episode: ``\\bar W^rp <- W^rp`` for the current goal."""
+        """Start a run: ``\\bar W^rp <- W^rp`` for the current goal."""
         self.W_eff = self.W_rp[-1].copy() if self.n else np.zeros(self.n_place)
 
     def learn(self, v: np.ndarray, W_max: np.ndarray | Callable[[np.ndarray], np.ndarray], iterations: int, tau_r: float) -> bool:

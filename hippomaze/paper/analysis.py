@@ -211,8 +211,8 @@ def dmtp_summary(result: DMTPResult, seed: int) -> DMTPSummary:
     """Medians, success, the Pearson r (with its interval) and the project's targets."""
     ind, ok = result.indirectness(), result.success()
     lengths = np.full((result.trials, result.runs), np.nan)
-    for e in result.episodes:
-        lengths[e.trial, e.run] = e.path_length
+    for r in result.run_records:
+        lengths[r.trial, r.run] = r.path_length
     later = ind[:, 1:]
     return DMTPSummary(
         protocol=result.summary(),

@@ -30,7 +30,7 @@ def task_fields(maze: str, seed: int, config: AgentConfig, roam_steps: int, spac
     env = make_env(maze)
     env.reset(seed=seed, options={"goal": None})
     agent = make_agent(env.observation_space, env.action_space, seed=seed, config=config)
-    agent.prepare(env)  # the dry run: only W_pb learns
+    agent.dry_run(env)  # only W_pb learns
     grid = grid_for(maze, spacing)
     grid_rates = agent.place_field_map(env, grid.positions)
     cells = analyse_fields(grid, grid_rates)
@@ -106,7 +106,7 @@ def task_generalisation(
     env = make_env(maze)
     env.reset(seed=seed, options={"goal": None})
     agent = make_agent(env.observation_space, env.action_space, seed=seed, config=config)
-    agent.prepare(env)  # the dry run, as before every DMTP trial
+    agent.dry_run(env)  # as before every DMTP trial
     if scenario.explore == "scripted":
         path = drive_scripted(env, agent, LIMITED_PATH)
     else:
@@ -198,7 +198,7 @@ def merge_trials(results: list[DMTPResult], seed: int) -> DMTPResult:
     first = results[0]
     merged = DMTPResult(maze=first.maze, agent=first.agent, seed=seed, trials=len(results), runs=first.runs)
     for t, r in enumerate(results):
-        merged.episodes += [dataclasses.replace(e, trial=t) for e in r.episodes]
+        merged.run_records += [dataclasses.replace(record, trial=t) for record in r.run_records]
         merged.paths += r.paths
         merged.env_steps_total += r.env_steps_total
         merged.seconds += r.seconds

@@ -160,9 +160,9 @@ def fig_same_start(results: list[tuple[str, DMTPResult, str]], out: Path, name: 
     fig, axes = plt.subplots(runs, len(results), figsize=(2.9 * len(results), 2.9 * runs), squeeze=False)
     for col, (label, result, maze) in enumerate(results):
         plot_trial_paths(result, 0, maze, axes=axes[: len(result.paths[0]), col])
-        for e in result.episodes:
-            mark = "" if e.success else " (not reached)"
-            axes[e.run, col].set_title(f"{label}, run {e.run + 1}: {e.indirectness:.2f}{mark}", fontsize="small")
+        for record in result.run_records:
+            mark = "" if record.success else " (not reached)"
+            axes[record.run, col].set_title(f"{label}, run {record.run + 1}: {record.indirectness:.2f}{mark}", fontsize="small")
         for ax in axes[len(result.paths[0]) :, col]:
             ax.set_visible(False)
     fig.suptitle(title, fontsize="medium")

@@ -30,13 +30,13 @@ def claims_table(rows: list[Claim]) -> str:
 def _slow_runs_text(result: DMTPResult) -> str:
     """How the open arena's later runs fell short: how many, how badly, and where the time went."""
     ind, ok = result.indirectness(), result.success()
-    slow = [(e, result.paths[e.trial][e.run]) for e in result.episodes if e.run > 0 and not (e.indirectness <= 1.0)]
+    slow = [(r, result.paths[r.trial][r.run]) for r in result.run_records if r.run > 0 and not (r.indirectness <= 1.0)]
     text = (
         f"Open arena: {len(slow)} of {ind[:, 1:].size} later runs had indirectness > 1 (worst {np.nanmax(ind[:, 1:]):.1f}); "
         f"{int((~ok[:, 1:]).sum())} did not reach the goal within the step limit."
     )
     if slow:
-        dists = [np.linalg.norm(path - np.asarray(e.goal), axis=1) for e, path in slow]
+        dists = [np.linalg.norm(path - np.asarray(r.goal), axis=1) for r, path in slow]
         near = float(np.median([np.mean(dd <= 1.0) for dd in dists]))
         first = float(np.median([np.argmax(dd <= 1.0) / max(len(dd) - 1, 1) if np.any(dd <= 1.0) else 1.0 for dd in dists]))
         text += (

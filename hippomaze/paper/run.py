@@ -36,13 +36,13 @@ def run_paper(args: PaperArgs) -> dict[str, Any]:
 
 
 def _same_start_trial(task: TrialResult) -> SameStartTrial:
-    episodes = task.result.episodes
-    return SameStartTrial(seed=task.seed, indirectness=[e.indirectness for e in episodes], success=[e.success for e in episodes])
+    records = task.result.run_records
+    return SameStartTrial(seed=task.seed, indirectness=[r.indirectness for r in records], success=[r.success for r in records])
 
 
 def _map_entry(task: TrialResult) -> MapEntry:
-    ep = task.result.episodes[0]
-    return MapEntry(maze=task.maze, seed=task.seed, found_goal=bool(ep.success), run1_steps=ep.steps, stats=task.map.stats)
+    run1 = task.result.run_records[0]
+    return MapEntry(maze=task.maze, seed=task.seed, found_goal=bool(run1.success), run1_steps=run1.steps, stats=task.map.stats)
 
 
 def write_outputs(
