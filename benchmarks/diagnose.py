@@ -1,13 +1,13 @@
 """Why the hippocampal agent finds its way, or does not: the model's diagnosis in one maze.
 
-Runs DMTP days with the agent, watching it from outside (this harness reads the true position;
+Runs DMTP trials with the agent, watching it from outside (this harness reads the true position;
 the agent never does) and measures, per maze:
 
 - **across walls**: the mean place-code cosine of places less than 1.6 m apart in a straight line
   but more than 2 m apart by path (the two sides of a thin wall).
 - **twins**: the share of places (a 0.5 m grid over the free space) whose place code has a
   distant look-alike: another place more than 2 m away by path whose place-rate vector has cosine
-  > 0.5 with it. Measured after each day's last run on the code the agent navigates with (with path
+  > 0.5 with it. Measured after each trial's last run on the code the agent navigates with (with path
   integration: as if localised there), and on the boundary code alone (``twins_bvc``).
 - **reward map** after run 1: ``coverage`` (share of places with value > ``xi_here``) and
   ``spearman`` (rank correlation of value with the geodesic distance to the goal over covered
@@ -61,7 +61,7 @@ class DiagnoseArgs:
     maze: str = "maze2"
     """built-in maze or a JSON path"""
     trials: int = 10
-    """DMTP days (each a fresh agent)"""
+    """DMTP trials (each a fresh agent)"""
     seed: int = 0
     """seeds goals, starts and agents"""
     paper: bool = False
@@ -69,7 +69,7 @@ class DiagnoseArgs:
     oracle: bool = False
     """PRIVILEGED ceiling: the path-integration estimate is the true position"""
     dry_run_steps: int = -1
-    """pre-exploration steps (-1: the config's default)"""
+    """dry-run steps (-1: the config's default)"""
     config: str = ""
     """more AgentConfig fields as JSON, e.g. '{"pi_gain": 2.0}'"""
     out: str = ""
@@ -153,7 +153,7 @@ class Watcher:
         self.env: Any = None
 
     # the protocol
-    def prepare(self, env: Any) -> None:
+    def dry_run(self, env: Any) -> None:
         self.run = -1
         self.env = env
         agent, inner = self.agent, self
@@ -168,10 +168,10 @@ class Watcher:
             type(agent).observe(agent, action, observation, reward, terminated, truncated, info)
             inner._after(info)
 
-        agent.reset, agent.observe = reset, observe  # watch the agent's own pre-exploration loop
+        agent.reset, agent.observe = reset, observe  # watch the agent's own dry-run loop
         self.in_dry_run = True
         try:
-            agent.prepare(env)
+            agent.dry_run(env)
         finally:
             del agent.reset, agent.observe
             self.in_dry_run = False
@@ -248,7 +248,7 @@ class Watcher:
 
 
 def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
-    """Run the days and measure; returns the record written to JSON."""
+    """Run the trials and measure; returns the record written to JSON."""
     spec = MazeSpec.load(args.maze)
     overrides = {} if args.dry_run_steps < 0 else {"dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
