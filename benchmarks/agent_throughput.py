@@ -9,8 +9,8 @@ beside it at the same cell counts: its agent moving and its place cells and BVCs
 ``--scaling`` measures how the cost grows instead: every size of ``--scaling-cells`` and
 ``--target-cells`` in a fresh process (so each row's peak resident memory is its own), with the
 time of each step split into its parts (BVC and head-direction rates, place-cell settling, path
-integration, learning, preplay; exclusive times of those methods, the rest is ``other``), the
-log-log slope of the cost against the number of place cells, the part that dominates at each end,
+integration, learning, preplay; exclusive times of those methods, the rest is ``other``) and one
+replay into building the rows of ``max_k W_pp`` it reaches and the rest (spreading), the log-log slope of the cost against the number of place cells, the part that dominates at each end,
 and the issue's targets at 10,000 cells (steps/s, resident memory, one replay). It writes the
 table and a figure (``.png`` beside the JSON). RatInABox is not timed there.
 
@@ -109,6 +109,10 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
+# The parts of one replay (``HippocampalAgent.learn_reward``); the rest is "other".
+REPLAY_TERMS: dict[str, tuple[tuple[str, str], ...]] = {"replay_weights": (("place", "replay_weights"),)}
+
+
 def make_config(model: str, n_place: int, dry_run_steps: int) -> AgentConfig:
     if model not in ("default", "paper"):
         raise ValueError(f"model {model!r} is unknown; allowed: default, paper")
@@ -137,6 +141,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
         began = time.perf_counter()
         agent.learn_reward()
         replay_ms.append(1e3 * (time.perf_counter() - began))
+    replay_split = _replay_split(agent) if split else None
     agent.reward = before_timing
 
     walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
@@ -159,6 +164,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
     w_pb = getattr(agent.place, "W_pb", None)
     row |= {
         "replay_ms": round(min(replay_ms), 2),
+        **({} if replay_split is None else {"replay_split_ms": replay_split}),
         "dry_run_steps_per_second": round(args.dry_run_steps / dry_run_seconds) if args.dry_run_steps else None,
         "run1_steps": run1.steps,
         "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
@@ -209,6 +215,25 @@ def _split(agent: HippocampalAgent, recorded: list, exploit: bool) -> dict[str, 
     timer.unwrap()
     out: dict[str, Any] = {term: round(1e6 * seconds / len(recorded), 2) for term, seconds in timer.split(total).items()}
     out["total"] = round(1e6 * total / len(recorded), 2)
+    if timer.missing:
+        out["methods_not_found"] = timer.missing
+    return out
+
+
+def _replay_split(agent: HippocampalAgent) -> dict[str, Any]:
+    """One more (instrumented) replay, in milliseconds: building the rows of ``max_k W_pp`` it reaches
+    (:data:`REPLAY_TERMS`) and the rest ("other": spreading the activity through those rows, with
+    the replay's own buffers, and adding to the reward weights)."""
+    timer = SplitTimer()
+    for term, methods in REPLAY_TERMS.items():
+        for owner, name in methods:
+            timer.wrap(getattr(agent, owner, None), name, term)
+    began = time.perf_counter()
+    agent.learn_reward()
+    total = time.perf_counter() - began
+    timer.unwrap()
+    out: dict[str, Any] = {term: round(1e3 * seconds, 3) for term, seconds in timer.split(total).items()}
+    out["total"] = round(1e3 * total, 3)
     if timer.missing:
         out["methods_not_found"] = timer.missing
     return out
@@ -285,6 +310,8 @@ def growth(rows: list[dict[str, Any]]) -> dict[str, Any]:
         mode: cost_growth(n, [1.0 / r[f"{mode}_steps_per_second"] for r in rows], [r[f"{mode}_split_us_per_step"] for r in rows])
         for mode in ("exploiting", "exploring")
     }
+    if all("replay_split_ms" in r for r in rows):
+        out["replay"] = cost_growth(n, [r["replay_ms"] for r in rows], [r["replay_split_ms"] for r in rows])
     for key in ("replay_ms", "peak_rss_above_start_mb", "W_pp_megabytes"):
         slope = log_log_slope(n, [r[key] for r in rows])  # over all sizes
         out[f"{key}_slope"] = None if slope is None else round(slope, 3)
@@ -328,6 +355,9 @@ def scaling(args: Args) -> None:
         print(
             f"  {mode}: cost per step {g['verdict']}; largest part {g['dominant_at_smallest']} (smallest) -> {g['dominant_at_largest']} (largest)"
         )
+    if "replay" in table["growth"]:
+        g = table["growth"]["replay"]
+        print(f"  replay: {g['verdict']}; largest part {g['dominant_at_smallest']} (smallest) -> {g['dominant_at_largest']} (largest)")
     print(f"  targets at {args.target_cells:,} place cells: {table['targets']}")
     print(f"wrote {out} and {figure}")
 
@@ -377,6 +407,10 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
 
     ax = axes[1, 1]
     ax.plot(n, [r["replay_ms"] for r in rows], "o-", label="one replay")
+    for term in (t for t in rows[0].get("replay_split_ms", {}) if t not in ("total", "methods_not_found")):
+        values = np.array([r["replay_split_ms"].get(term, 0.0) for r in rows], dtype=float)
+        if values.max() > 0.0:
+            ax.plot(n, np.where(values > 0.0, values, np.nan), "s--", lw=0.8, label=f"{term} (instrumented replay)")
     ax.plot(n, rows[-1]["replay_ms"] * n / n[-1], "k:", label="proportional to n")
     ax.plot(n, rows[-1]["replay_ms"] * (n / n[-1]) ** 2, "k-.", lw=0.8, label="proportional to n^2")
     ax.axhline(args.target_replay_ms, color="r", ls="--", lw=1, label=f"target {args.target_replay_ms:g} ms")

@@ -121,8 +121,11 @@ def test_agent_scaling_table_tiny(tmp_path, monkeypatch):
             assert row[f"{mode}_steps_per_second"] > 0
         assert row["exploring_split_us_per_step"]["preplay"] == 0.0  # exploring never preplays
         assert row["replay_ms"] >= 0 and row["peak_rss_mb"] > 0
+        assert {"replay_weights", "other", "total"} <= set(row["replay_split_ms"])
+        assert "methods_not_found" not in row["replay_split_ms"]
     growth = table["growth"]
     assert growth["exploiting"]["dominant_at_largest"] in (*agent_throughput.AGENT_TERMS, "other")
+    assert growth["replay"]["dominant_at_largest"] in ("replay_weights", "other")
     assert table["targets"]["measured"] and set(table["targets"]) >= {"steps_per_second", "peak_rss_mb", "replay_ms"}
     agent_throughput.plot_scaling(table, args, tmp_path / "agent.png")
     assert (tmp_path / "agent.png").stat().st_size > 0
