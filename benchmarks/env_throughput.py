@@ -10,8 +10,19 @@ actions, its repeats interleaved with each maze's so that both see the same mach
 the ``peers`` extra (``pip install -e .[peers]``); without it the benchmark says so and times
 hippomaze alone.
 
+``--scaling`` measures how the cost grows instead: steps/s and memory against the number of rays
+(``--scaling-rays``, in the built-in 10 m mazes) and against the arena's side (``--scaling-sizes``:
+the built-in geometry scaled up, walls and all, at 720 rays; the rangefinder keeps its 10 m
+range), each point in a fresh process, with the time of a step split into ray casting
+(``Rangefinder.scan``), physics (``RobotWorld.drive_heading``), resets (their share, amortised)
+and the rest of ``step`` with its wrappers ("step_overhead"). It writes the table, the log-log
+slopes, the part that dominates at each end, and a figure (``.png`` beside the JSON).
+
     python -m benchmarks.env_throughput                      # writes benchmarks/results/env_throughput.json
     python -m benchmarks.env_throughput --steps 2000 --repeats 1 --out /tmp/quick.json
+    python -m benchmarks.env_throughput --scaling            # benchmarks/results/env_scaling.json and .png
+    python -m benchmarks.env_throughput --scaling --scaling-mazes open --scaling-rays 64 720 --scaling-sizes 10 20 \
+        --steps 500 --warmup 100 --repeats 1 --out /tmp/env_scaling.json   # a quick look
 """
 
 from __future__ import annotations
@@ -21,6 +32,8 @@ import datetime
 import statistics
 import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import numba
@@ -28,7 +41,19 @@ import numpy as np
 import pymunk
 
 import hippo_env
-from benchmarks.common import command_line, load_average, machine_info, output_path, parse_dataclass_args
+from benchmarks.common import (
+    SplitTimer,
+    command_line,
+    cost_growth,
+    in_fresh_process,
+    load_average,
+    machine_info,
+    output_path,
+    parse_dataclass_args,
+    peak_resident_megabytes,
+    resident_megabytes,
+)
+from hippo_env.maze import MazeSpec
 
 
 @dataclass
@@ -57,12 +82,24 @@ class Args:
     """steps/s aimed for at 720 rays on one core"""
     peer: str = "PointMaze_UMaze-v3"
     """the peer environment timed beside each maze ("" skips it)"""
-    out: str = "benchmarks/results/env_throughput.json"
-    """where the JSON goes (relative to the repository root unless absolute)"""
+    scaling: bool = False
+    """measure how the cost grows instead (see above): each point in a fresh process"""
+    scaling_mazes: tuple[str, ...] = ("open", "maze2")
+    """built-in mazes of the scaling table"""
+    scaling_rays: tuple[int, ...] = (64, 128, 256, 360, 720)
+    """rays of the scaling table (in the 10 m mazes)"""
+    scaling_sizes: tuple[float, ...] = (10.0, 20.0, 40.0)
+    """arena sides of the scaling table (m; the built-in geometry scaled up, at 720 rays)"""
+    out: str = ""
+    """where the JSON goes (relative to the repository root unless absolute); '' = benchmarks/results/
+    env_throughput.json, or with --scaling benchmarks/results/env_scaling.json (the figure beside it)"""
 
 
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    if args.scaling:
+        scaling(args)
+        return
     rng = np.random.default_rng(args.seed)
     load_at_start = load_average()
     print(f"hippomaze env throughput: {args.steps} steps x {args.repeats} repeats, random discrete actions")
@@ -144,13 +181,7 @@ def main(argv: list[str] | None = None) -> None:
     at_target_rays = [row["steps_per_second"] for row in single if row["n_rays"] == 720]
     at_target_rays_cpu = [row["steps_per_cpu_second"] for row in single if row["n_rays"] == 720]
     record = {
-        "command": command_line(),
-        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "args": dataclasses.asdict(args),
-        "machine": machine_info(
-            numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
-        )
-        | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
+        **_header(args, load_at_start),
         "single_env": single,
         "vector_env": vector,
         "target_steps_per_second_720_rays": args.target,
@@ -164,10 +195,22 @@ def main(argv: list[str] | None = None) -> None:
             "min_x_peer_720_rays": min((row["x_peer"] for row in single if "x_peer" in row), default=None),
         },
     }
-    out = output_path(args.out)
+    out = output_path(args.out or "benchmarks/results/env_throughput.json")
     hippo_env.write_json(out, record)
     slowest = record["min_steps_per_second_720_rays"]
     print(f"wrote {out}" + (f"; slowest maze at 720 rays: {slowest:,} steps/s (target {args.target:,.0f})" if slowest else ""))
+
+
+def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:
+    return {
+        "command": command_line(),
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "args": dataclasses.asdict(args),
+        "machine": machine_info(
+            numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
+        )
+        | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
+    }
 
 
 _PEER_STATUS = {"why": ""}
@@ -195,10 +238,12 @@ class _Timed:
         self.env, self.actions, self.args = env, actions, args
         self.wall: list[float] = []
         self.cpu: list[float] = []
+        self.collisions = 0  # steps that touched a wall (hippomaze's info["collision"])
 
     def _run(self, actions: list) -> None:
         for action in actions:
-            _, _, terminated, truncated, _ = self.env.step(action)
+            _, _, terminated, truncated, info = self.env.step(action)
+            self.collisions += bool(info.get("collision"))
             if terminated or truncated:
                 self.env.reset()
 
@@ -212,6 +257,165 @@ class _Timed:
         self._run(self.actions[first : first + self.args.steps])
         self.wall.append(self.args.steps / (time.perf_counter() - began))
         self.cpu.append(self.args.steps / (time.process_time() - began_cpu))
+
+
+# ============================================================================ scaling
+# The parts of a step, as the methods (attribute path from the unwrapped env, method) whose
+# exclusive time each part is; the rest of a step (``HippoMazeEnv.step`` itself, the observation
+# and info dicts, gymnasium's wrappers) is "step_overhead".
+ENV_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
+    "ray_cast": (("rangefinder", "scan"),),
+    "physics": (("world", "drive_heading"),),
+    "reset": (("", "reset"),),
+}
+
+
+def scaled_maze(name: str, size: float) -> MazeSpec:
+    """A built-in maze scaled up (or down) uniformly to a side of ``size`` metres: walls, obstacles,
+    gaps and the goal (if any) alike. The built-in size itself gives the maze unchanged."""
+    spec = MazeSpec.load(name)
+    factor = size / max(spec.size)
+    if factor == 1.0:
+        return spec
+    return MazeSpec(
+        name=f"{spec.name}-{size:g}m",
+        size=(spec.size[0] * factor, spec.size[1] * factor),
+        obstacles=[[(x * factor, y * factor) for x, y in polygon] for polygon in spec.obstacles],
+        goal=None if spec.goal is None else (spec.goal[0] * factor, spec.goal[1] * factor),
+    )
+
+
+def measure_point(maze: str, size: float, n_rays: int, args: Args) -> dict[str, Any]:
+    """One point of the scaling table: ``gym.make`` of the scaled maze, timed as the single-env table
+    is (median of ``args.repeats``), then one instrumented pass of ``args.steps`` steps split into
+    :data:`ENV_TERMS` (microseconds per step; the instrumented pass is a little slower: read the
+    shares); the process's memory (run it in a fresh process for its own peak)."""
+    resident_at_start = resident_megabytes()
+    began = time.perf_counter()
+    env = gym.make("HippoMaze-v0", maze=scaled_maze(maze, size), n_rays=n_rays)
+    env.reset(seed=args.seed)
+    make_seconds = time.perf_counter() - began
+    actions = np.random.default_rng(args.seed).integers(0, 8, args.warmup + (args.repeats + 1) * args.steps).tolist()
+    timed = _Timed(env, actions, args)
+    timed.warm_up()
+    for r in range(args.repeats):
+        timed.repeat(r)
+    timer = SplitTimer()
+    for term, methods in ENV_TERMS.items():
+        for owner, name in methods:
+            timer.wrap(getattr(env.unwrapped, owner) if owner else env.unwrapped, name, term)
+    first = args.warmup + args.repeats * args.steps
+    timed.collisions = 0
+    began = time.perf_counter()
+    timed._run(actions[first : first + args.steps])
+    total = time.perf_counter() - began
+    timer.unwrap()
+    split = {("step_overhead" if t == "other" else t): round(1e6 * v / args.steps, 3) for t, v in timer.split(total).items()}
+    split["total"] = round(1e6 * total / args.steps, 3)
+    if timer.missing:
+        split["methods_not_found"] = timer.missing
+    env.close()
+    return {
+        "maze": maze,
+        "size_m": size,
+        "n_rays": n_rays,
+        "n_segments": int(env.unwrapped.maze.segments.shape[0]),
+        "max_range_m": env.unwrapped.rangefinder.max_range,
+        "steps_per_second": round(statistics.median(timed.wall)),
+        "steps_per_cpu_second": round(statistics.median(timed.cpu)),
+        "repeats": [round(r) for r in timed.wall],
+        "split_us_per_step": split,
+        "wall_contact_share": round(timed.collisions / args.steps, 3),
+        "resets_in_split_pass": timer.calls.get("reset", 0),
+        "ms_per_reset": round(1e3 * timer.seconds["reset"] / timer.calls["reset"], 3) if timer.calls.get("reset") else None,
+        "make_and_reset_seconds": round(make_seconds, 3),
+        "peak_rss_mb": round(peak_resident_megabytes(), 1),
+        "peak_rss_above_start_mb": round(peak_resident_megabytes() - resident_at_start, 1),
+    }
+
+
+def scaling_table(args: Args, fresh_process: bool = True) -> dict[str, Any]:
+    """Rows against rays (10 m mazes) and against the arena's side (720 rays), per maze, with
+    :func:`cost_growth` along each axis."""
+    rows, growth = [], {}
+    for maze in args.scaling_mazes:
+        side = max(MazeSpec.load(maze).size)
+        points = [("rays", side, n) for n in sorted(args.scaling_rays)] + [("size", s, 720) for s in sorted(args.scaling_sizes)]
+        for axis, size, n_rays in points:
+            done = next((r for r in rows if (r["maze"], r["size_m"], r["n_rays"]) == (maze, size, n_rays)), None)
+            row = dict(done) if done else (in_fresh_process if fresh_process else _call)(measure_point, maze, size, n_rays, args)
+            rows.append(row | {"axis": axis})
+            if not done:
+                print(
+                    f"  {maze:6s} {size:4g} m {n_rays:4d} rays: {row['steps_per_second']:9,} steps/s; peak RSS {row['peak_rss_mb']:.0f} MB "
+                    f"({row['peak_rss_above_start_mb']:.0f} above the imports); parts (us/step) "
+                    + ", ".join(f"{t} {v:.1f}" for t, v in row["split_us_per_step"].items() if isinstance(v, float | int)),
+                    flush=True,
+                )
+        for axis, key in (("rays", "n_rays"), ("size", "size_m")):
+            mine = [r for r in rows if r["maze"] == maze and r["axis"] == axis]
+            growth[f"{maze}_{axis}"] = cost_growth(
+                [r[key] for r in mine], [1.0 / r["steps_per_second"] for r in mine], [r["split_us_per_step"] for r in mine]
+            )
+    return {"rows": rows, "growth": growth}
+
+
+def _call(function: Any, *args: Any) -> Any:
+    return function(*args)
+
+
+def scaling(args: Args) -> None:
+    load_at_start = load_average()
+    print(
+        f"hippomaze env scaling: {args.steps} steps x {args.repeats} repeats (median) after {args.warmup}, random discrete actions; "
+        "each point in a fresh process"
+    )
+    table = scaling_table(args)
+    record = {**_header(args, load_at_start), **table}
+    out = output_path(args.out or "benchmarks/results/env_scaling.json")
+    hippo_env.write_json(out, record)
+    figure = out.with_suffix(".png")
+    plot_scaling(table, figure)
+    for name, g in table["growth"].items():
+        print(f"  {name}: cost per step {g['verdict']}; largest part {g['dominant_at_smallest']} -> {g['dominant_at_largest']}")
+    print(f"wrote {out} and {figure}")
+
+
+def plot_scaling(table: dict[str, Any], path: Path) -> None:
+    """Log-log against rays (left) and arena side (right): steps/s, the parts of a step (with a
+    cost-proportional reference line for ray casting against rays), and peak memory."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = table["rows"]
+    fig, axes = plt.subplots(3, 2, figsize=(11, 11), sharex="col")
+    for col, (axis, key, label) in enumerate((("rays", "n_rays", "rays"), ("size", "size_m", "arena side (m)"))):
+        for maze in dict.fromkeys(r["maze"] for r in rows):
+            mine = [r for r in rows if r["maze"] == maze and r["axis"] == axis]
+            x = np.array([r[key] for r in mine], dtype=float)
+            axes[0, col].plot(x, [r["steps_per_second"] for r in mine], "o-", label=maze)
+            for n, term in enumerate(t for t in mine[0]["split_us_per_step"] if t not in ("total", "methods_not_found")):
+                values = [r["split_us_per_step"].get(term, 0.0) for r in mine]
+                if max(values) <= 0.0:
+                    continue  # e.g. no reset in the timed steps
+                values = [v if v > 0.0 else np.nan for v in values]
+                axes[1, col].plot(x, values, marker="os^vD"[n % 5], ls="-" if maze == rows[0]["maze"] else "--", label=f"{maze}: {term}")
+            axes[2, col].plot(x, [r["peak_rss_mb"] for r in mine], "o-", label=f"{maze}: peak resident (process)")
+            axes[2, col].plot(x, [r["peak_rss_above_start_mb"] for r in mine], "s--", label=f"{maze}: above the imports")
+            if axis == "rays" and maze == rows[0]["maze"]:
+                ray = mine[-1]["split_us_per_step"]["ray_cast"]
+                axes[1, col].plot(x, ray * x / x[-1], "k:", label="proportional to rays")
+        axes[0, col].set(ylabel="steps / s (median)", title=f"environment against {label}")
+        axes[1, col].set(ylabel="microseconds per step", title="parts of a step")
+        axes[2, col].set(ylabel="MB", xlabel=label, title="memory")
+        for ax in axes[:, col]:
+            ax.set(xscale="log", yscale="log")
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

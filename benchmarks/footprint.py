@@ -16,15 +16,22 @@
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing
-import resource
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from benchmarks.common import (
+    REPO,
+    command_line,
+    in_fresh_process,
+    load_average,
+    machine_info,
+    parse_dataclass_args,
+    peak_resident_megabytes,
+    resident_megabytes,
+)
 from hippo_env.files import write_json
 
 
@@ -57,17 +64,7 @@ def rectangles(size: float, count: int, seed: int) -> list[list[list[float]]]:
     return out
 
 
-def resident_megabytes() -> float:
-    """This process's resident memory now (Linux), in MB."""
-    with open("/proc/self/statm") as f:
-        return int(f.read().split()[1]) * resource.getpagesize() / 1e6
-
-
-def _peak_megabytes() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3  # ru_maxrss is in KB on Linux
-
-
-def _set_up(maze: Any, queue: Any) -> None:
+def _set_up(maze: Any) -> dict[str, Any]:
     """In a fresh process: import, note the memory, then make and reset the env."""
     import gymnasium as gym
 
@@ -78,26 +75,19 @@ def _set_up(maze: Any, queue: Any) -> None:
     env = gym.make("HippoMaze-v0", maze=maze)
     made = time.perf_counter()
     env.reset(seed=0)
-    queue.put(
-        {
-            "make_seconds": made - began,
-            "make_and_reset_seconds": time.perf_counter() - began,
-            "resident_before_mb": before,
-            "peak_mb": _peak_megabytes(),
-            "peak_above_import_mb": _peak_megabytes() - before,
-        }
-    )
+    result = {
+        "make_seconds": made - began,
+        "make_and_reset_seconds": time.perf_counter() - began,
+        "resident_before_mb": before,
+        "peak_mb": peak_resident_megabytes(),
+        "peak_above_import_mb": peak_resident_megabytes() - before,
+    }
     env.close()
+    return result
 
 
 def set_up_cost(maze: Any) -> dict[str, Any]:
-    context = multiprocessing.get_context("spawn")
-    queue = context.Queue()
-    process = context.Process(target=_set_up, args=(maze, queue))
-    process.start()
-    result = queue.get()
-    process.join()
-    return result
+    return in_fresh_process(_set_up, maze)
 
 
 def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
@@ -126,7 +116,7 @@ def long_run(maze: str, steps: int, every: int, seed: int) -> dict[str, Any]:
         "maze": maze,
         "steps": steps,
         "samples": samples,
-        "peak_mb": _peak_megabytes(),
+        "peak_mb": peak_resident_megabytes(),
         "path_rows_kept": len(env.unwrapped.path),
         "steps_per_second": steps / (time.perf_counter() - began),
     }

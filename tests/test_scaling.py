@@ -1,0 +1,132 @@
+"""The scaling benchmarks (``--scaling`` of ``benchmarks.agent_throughput`` and
+``benchmarks.env_throughput``) and what they share in ``benchmarks.common``, at tiny sizes: the
+tables' shape, the split of a step into parts, the slopes. Nothing here asserts a speed."""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import os
+import time
+
+import numpy as np
+import pytest
+
+from benchmarks import agent_throughput, env_throughput
+from benchmarks.common import SplitTimer, cost_growth, growth_verdict, in_fresh_process, log_log_slope
+from hippo_env.dmtp import rollout
+
+
+class _Work:
+    def outer(self, inner_calls: int) -> int:
+        for _ in range(inner_calls):
+            self.inner()
+        time.sleep(0.002)
+        return inner_calls
+
+    def inner(self) -> None:
+        time.sleep(0.002)
+
+
+def test_split_timer_counts_nested_calls_once_and_puts_methods_back():
+    work = _Work()
+    timer = SplitTimer()
+    timer.wrap(work, "outer", "outer")
+    timer.wrap(work, "inner", "inner")
+    timer.wrap(work, "no_such_method", "inner")
+    began = time.perf_counter()
+    assert work.outer(3) == 3  # results pass through
+    total = time.perf_counter() - began
+    split = timer.split(total)
+    assert timer.calls == {"outer": 1, "inner": 3}
+    assert split["inner"] > split["outer"] > 0.0  # three inner sleeps, one outer sleep of its own
+    assert split["other"] >= 0.0
+    assert math.isclose(sum(split.values()), total)
+    assert timer.missing == ["_Work.no_such_method"]
+    timer.unwrap()
+    assert "outer" not in vars(work) and "inner" not in vars(work)
+    timer.reset()
+    assert timer.seconds == {"outer": 0.0, "inner": 0.0}
+
+
+def test_log_log_slope_and_verdict():
+    n = [250, 500, 1000, 2000]
+    assert log_log_slope(n, [3.0 * x for x in n]) == pytest.approx(1.0)
+    assert log_log_slope(n, [x * x for x in n]) == pytest.approx(2.0)
+    assert log_log_slope([1000], [1.0]) is None
+    assert growth_verdict(1.0).startswith("linear")
+    assert growth_verdict(0.3).startswith("sublinear")
+    assert growth_verdict(2.0).startswith("superlinear")
+
+
+def test_cost_growth_names_the_dominant_part_at_each_end():
+    sizes = [100, 200, 400, 800]
+    splits = [{"fixed": 50.0, "linear": 0.1 * n, "total": 50.0 + 0.1 * n, "methods_not_found": ["x"]} for n in sizes]
+    g = cost_growth(sizes, [s["total"] * 1e-6 for s in splits], splits)
+    assert g["dominant_at_smallest"] == "fixed" and g["dominant_at_largest"] == "linear"
+    assert set(g["part_slopes"]) == {"fixed", "linear"}
+    assert g["part_slopes"]["linear"]["all_sizes"] == pytest.approx(1.0)
+    assert g["part_slopes"]["fixed"]["all_sizes"] == pytest.approx(0.0)
+    assert g["larger_half_from"] == 400
+    assert sum(g["shares_at_largest"].values()) == pytest.approx(1.0, abs=1e-2)
+
+
+def test_in_fresh_process_runs_elsewhere():
+    assert in_fresh_process(os.getpid) != os.getpid()
+
+
+def test_scaled_maze_scales_every_wall():
+    small = env_throughput.scaled_maze("maze2", 10.0)
+    assert small.name == "maze2"
+    large = env_throughput.scaled_maze("maze2", 40.0)
+    assert large.size == (40.0, 40.0)
+    assert np.allclose(large.segments, 4.0 * small.segments)
+
+
+def test_env_scaling_table_tiny(tmp_path):
+    args = env_throughput.Args(
+        scaling_mazes=("open",), scaling_rays=(16, 32), scaling_sizes=(10.0, 20.0), steps=40, warmup=5, repeats=1, peer=""
+    )
+    table = env_throughput.scaling_table(args, fresh_process=False)
+    rows = table["rows"]
+    assert [(r["axis"], r["size_m"], r["n_rays"]) for r in rows] == [
+        ("rays", 10.0, 16),
+        ("rays", 10.0, 32),
+        ("size", 10.0, 720),
+        ("size", 20.0, 720),
+    ]
+    for row in rows:
+        split = row["split_us_per_step"]
+        assert {"ray_cast", "physics", "reset", "step_overhead", "total"} <= set(split)
+        assert "methods_not_found" not in split
+        assert split["ray_cast"] > 0 and split["physics"] > 0
+        assert row["steps_per_second"] > 0 and row["peak_rss_mb"] > 0
+    assert set(table["growth"]) == {"open_rays", "open_size"}
+    assert table["growth"]["open_rays"]["sizes"] == [16, 32]
+    env_throughput.plot_scaling(table, tmp_path / "env.png")
+    assert (tmp_path / "env.png").stat().st_size > 0
+
+
+def test_agent_scaling_table_tiny(tmp_path, monkeypatch):
+    monkeypatch.setattr(agent_throughput, "rollout", functools.partial(rollout, max_steps=100))  # run 1 need not find the goal
+    args = agent_throughput.Args(scaling_cells=(40,), target_cells=80, steps=20, repeats=1, dry_run_steps=20, peer_steps=0)
+    table = agent_throughput.scaling_table(args, fresh_process=False)
+    assert [r["n_place"] for r in table["rows"]] == [40, 80]
+    for row in table["rows"]:
+        for mode in ("exploiting", "exploring"):
+            split = row[f"{mode}_split_us_per_step"]
+            assert set(agent_throughput.AGENT_TERMS) | {"other", "total"} <= set(split)
+            assert "methods_not_found" not in split, split.get("methods_not_found")
+            assert row[f"{mode}_steps_per_second"] > 0
+        assert row["exploring_split_us_per_step"]["preplay"] == 0.0  # exploring never preplays
+        assert row["replay_ms"] >= 0 and row["peak_rss_mb"] > 0
+        assert {"replay_weights", "other", "total"} <= set(row["replay_split_ms"])
+        assert "methods_not_found" not in row["replay_split_ms"]
+    growth = table["growth"]
+    assert growth["exploiting"]["dominant_at_largest"] in (*agent_throughput.AGENT_TERMS, "other")
+    assert growth["replay"]["dominant_at_largest"] in ("replay_weights", "other")
+    assert table["targets"]["measured"] and set(table["targets"]) >= {"steps_per_second", "peak_rss_mb", "replay_ms"}
+    agent_throughput.plot_scaling(table, args, tmp_path / "agent.png")
+    assert (tmp_path / "agent.png").stat().st_size > 0
+    json.dumps(table)  # the record is plain JSON
