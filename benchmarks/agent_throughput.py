@@ -129,7 +129,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
     env.reset(seed=args.seed)
     agent = HippocampalAgent(env.observation_space, env.action_space, make_config(args.model, n_place, args.dry_run_steps), seed=args.seed)
     began = time.perf_counter()
-    agent.prepare(env)
+    agent.dry_run(env)
     dry_run_seconds = time.perf_counter() - began
     agent.start_trial(0)
     observation, info = env.reset(options={"goal": [0.0, 0.0]})
