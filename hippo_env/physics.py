@@ -24,6 +24,10 @@ import math
 import numpy as np
 import pymunk
 
+# pymunk's own C bindings: the very functions its properties and Space.step call, without the
+# Python wrapping around each (Vec2d objects, checks for features this module does not use).
+from pymunk._chipmunk_cffi import lib as _cp
+
 from hippo_env.geometry import segments_clearance, wrap_angle
 from hippo_env.maze import MazeSpec
 
@@ -73,22 +77,23 @@ class RobotWorld:
         shape.elasticity = 0.0
         space.add(body, shape)
         self.space, self.body, self.shape = space, body, shape
+        self._cp_space, self._cp_body = space._space, body._body
         self.sim_time = 0.0
         self._last_dt = math.inf
 
     @property
     def position(self) -> tuple[float, float]:
-        x, y = self.body.position
-        return (x, y)
+        p = _cp.cpBodyGetPosition(self._cp_body)
+        return (p.x, p.y)
 
     @property
     def heading(self) -> float:
         """Compass heading in (-pi, pi]."""
-        return wrap_angle(self.body.angle)
+        return wrap_angle(_cp.cpBodyGetAngle(self._cp_body))
 
     def clearance(self) -> float:
         """Distance from the robot's centre to the nearest wall."""
-        p = self.body.position
+        p = _cp.cpBodyGetPosition(self._cp_body)
         return segments_clearance(p.x, p.y, self.segments)
 
     def drive_heading(self, heading: float) -> bool:
@@ -96,9 +101,9 @@ class RobotWorld:
 
         Returns whether a wall blocked the robot.
         """
-        turn = abs(wrap_angle(heading - self.body.angle))
+        turn = abs(wrap_angle(heading - _cp.cpBodyGetAngle(self._cp_body)))
         self.sim_time += turn / TURN_RATE
-        self.body.angle = wrap_angle(heading)
+        _cp.cpBodySetAngle(self._cp_body, wrap_angle(heading))
         return self.drive_wheels(1.0, 1.0)
 
     def drive_wheels(self, left: float, right: float) -> bool:
@@ -108,23 +113,25 @@ class RobotWorld:
         """
         speed = MAX_SPEED * (left + right) / 2.0
         spin = MAX_SPEED * (right - left) / AXLE_LENGTH
-        body = self.body
-        start = body.position
-        start_angle = body.angle
-        gap = self.clearance() - self.radius
+        body = self._cp_body
+        start = _cp.cpBodyGetPosition(body)
+        start_x, start_y = start.x, start.y
+        start_angle = _cp.cpBodyGetAngle(body)
+        gap = segments_clearance(start_x, start_y, self.segments) - self.radius
         if gap > abs(speed) * CONTROL_DT + SKIN:
             # No wall within reach: one physics step integrates the whole control step.
-            body.velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
-            body.angular_velocity = spin
-            self._step(CONTROL_DT)
+            _cp.cpBodySetVelocity(body, _chord_velocity(speed, spin, start_angle, CONTROL_DT))
+            _cp.cpBodySetAngularVelocity(body, spin)
+            _cp.cpSpaceStep(self._cp_space, CONTROL_DT)
+            self._last_dt = CONTROL_DT
         else:
             self._drive_near_walls(speed, spin)
-        body.velocity = (0.0, 0.0)
-        body.angular_velocity = 0.0
+        _cp.cpBodySetVelocity(body, (0.0, 0.0))
+        _cp.cpBodySetAngularVelocity(body, 0.0)
         self.sim_time += CONTROL_DT
-        end_x, end_y = _unobstructed_end(start.x, start.y, start_angle, speed, spin)
-        x, y = body.position
-        return math.hypot(x - end_x, y - end_y) > BLOCKED_TOLERANCE
+        end_x, end_y = _unobstructed_end(start_x, start_y, start_angle, speed, spin)
+        p = _cp.cpBodyGetPosition(body)
+        return math.hypot(p.x - end_x, p.y - end_y) > BLOCKED_TOLERANCE
 
     def _drive_near_walls(self, speed: float, spin: float) -> None:
         """Substeps of ``SKIN`` travel, with the motors acting as forces.
@@ -136,7 +143,8 @@ class RobotWorld:
         (pymunk scales its cached contact impulses by the ratio of successive time steps)
         until the robot is clear of every wall, when one step finishes the control step.
         """
-        body, mass, moment = self.body, self.body.mass, self.body.moment
+        body, space, segments = self._cp_body, self._cp_space, self.segments
+        mass, moment = self.body.mass, self.body.moment
         dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
         substeps = round(CONTROL_DT / dt)
         if abs(substeps * dt - CONTROL_DT) > 1e-9:  # equal substeps: no sliver of a last one
@@ -147,25 +155,28 @@ class RobotWorld:
             self.space.remove(self.shape)
             self.space.add(self.shape)
         remaining = CONTROL_DT
-        body.velocity = (0.0, 0.0)
+        travel = abs(speed)
+        _cp.cpBodySetVelocity(body, (0.0, 0.0))
         priming = True
+        angle = target_dt = target = None
         while remaining > 1e-12:
-            target = _chord_velocity(speed, spin, body.angle, dt)
-            velocity = body.velocity
-            body.force = (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt)
-            body.torque = moment * (spin - body.angular_velocity) / dt
-            self._step(dt)
+            a = _cp.cpBodyGetAngle(body)
+            if a != angle or dt != target_dt:  # the same command as last substep: the same target
+                angle, target_dt = a, dt
+                target = _chord_velocity(speed, spin, a, dt)
+            velocity = _cp.cpBodyGetVelocity(body)
+            _cp.cpBodySetForce(body, (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt))
+            _cp.cpBodySetTorque(body, moment * (spin - _cp.cpBodyGetAngularVelocity(body)) / dt)
+            _cp.cpSpaceStep(space, dt)
+            self._last_dt = dt
             if not priming:
                 remaining -= dt
             priming = False
-            if self.clearance() - self.radius > abs(speed) * remaining + SKIN:
+            p = _cp.cpBodyGetPosition(body)
+            if segments_clearance(p.x, p.y, segments) - self.radius > travel * remaining + SKIN:
                 dt = remaining
             else:
                 dt = min(dt, remaining)
-
-    def _step(self, dt: float) -> None:
-        self.space.step(dt)
-        self._last_dt = dt
 
 
 def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple[float, float]:
