@@ -78,6 +78,7 @@ class RobotWorld:
         space.add(body, shape)
         self.space, self.body, self.shape = space, body, shape
         self._cp_space, self._cp_body = space._space, body._body
+        self._mass, self._moment = body.mass, body.moment
         self.sim_time = 0.0
         self._last_dt = math.inf
 
@@ -144,7 +145,7 @@ class RobotWorld:
         until the robot is clear of every wall, when one step finishes the control step.
         """
         body, space, segments = self._cp_body, self._cp_space, self.segments
-        mass, moment = self.body.mass, self.body.moment
+        mass, moment = self._mass, self._moment
         dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
         substeps = round(CONTROL_DT / dt)
         if abs(substeps * dt - CONTROL_DT) > 1e-9:  # equal substeps: no sliver of a last one
@@ -154,29 +155,39 @@ class RobotWorld:
             # dt / last dt and kick the robot through the wall: forget them.
             self.space.remove(self.shape)
             self.space.add(self.shape)
+        cp = _cp  # the C functions, bound once: this loop is the simulator's hot path
+        get_angle, get_velocity, get_spin, get_position = (
+            cp.cpBodyGetAngle,
+            cp.cpBodyGetVelocity,
+            cp.cpBodyGetAngularVelocity,
+            cp.cpBodyGetPosition,
+        )
+        set_force, set_torque, space_step = cp.cpBodySetForce, cp.cpBodySetTorque, cp.cpSpaceStep
+        radius, travel, skin = self.radius, abs(speed), SKIN
         remaining = CONTROL_DT
-        travel = abs(speed)
-        _cp.cpBodySetVelocity(body, (0.0, 0.0))
+        cp.cpBodySetVelocity(body, (0.0, 0.0))
         priming = True
-        angle = target_dt = target = None
+        angle = target_dt = None
         while remaining > 1e-12:
-            a = _cp.cpBodyGetAngle(body)
+            a = get_angle(body)
             if a != angle or dt != target_dt:  # the same command as last substep: the same target
                 angle, target_dt = a, dt
-                target = _chord_velocity(speed, spin, a, dt)
-            velocity = _cp.cpBodyGetVelocity(body)
-            _cp.cpBodySetForce(body, (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt))
-            _cp.cpBodySetTorque(body, moment * (spin - _cp.cpBodyGetAngularVelocity(body)) / dt)
-            _cp.cpSpaceStep(space, dt)
-            self._last_dt = dt
-            if not priming:
-                remaining -= dt
-            priming = False
-            p = _cp.cpBodyGetPosition(body)
-            if segments_clearance(p.x, p.y, segments) - self.radius > travel * remaining + SKIN:
-                dt = remaining
+                target_x, target_y = _chord_velocity(speed, spin, a, dt)
+            velocity = get_velocity(body)
+            set_force(body, (mass * (target_x - velocity.x) / dt, mass * (target_y - velocity.y) / dt))
+            set_torque(body, moment * (spin - get_spin(body)) / dt)
+            space_step(space, dt)
+            stepped = dt
+            if priming:
+                priming = False
             else:
-                dt = min(dt, remaining)
+                remaining -= dt
+                if remaining <= 1e-12:
+                    break
+            p = get_position(body)
+            if remaining < dt or segments_clearance(p.x, p.y, segments) - radius > travel * remaining + skin:
+                dt = remaining
+        self._last_dt = stepped
 
 
 def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple[float, float]:
