@@ -119,9 +119,10 @@ class RobotWorld:
         start_x, start_y = start.x, start.y
         start_angle = _cp.cpBodyGetAngle(body)
         gap = segments_clearance(start_x, start_y, self.segments) - self.radius
+        velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
         if gap > abs(speed) * CONTROL_DT + SKIN:
             # No wall within reach: one physics step integrates the whole control step.
-            _cp.cpBodySetVelocity(body, _chord_velocity(speed, spin, start_angle, CONTROL_DT))
+            _cp.cpBodySetVelocity(body, velocity)
             _cp.cpBodySetAngularVelocity(body, spin)
             _cp.cpSpaceStep(self._cp_space, CONTROL_DT)
             self._last_dt = CONTROL_DT
@@ -130,7 +131,8 @@ class RobotWorld:
         _cp.cpBodySetVelocity(body, (0.0, 0.0))
         _cp.cpBodySetAngularVelocity(body, 0.0)
         self.sim_time += CONTROL_DT
-        end_x, end_y = _unobstructed_end(start_x, start_y, start_angle, speed, spin)
+        # Where the robot would have ended with no wall in the way.
+        end_x, end_y = start_x + velocity[0] * CONTROL_DT, start_y + velocity[1] * CONTROL_DT
         p = _cp.cpBodyGetPosition(body)
         return math.hypot(p.x - end_x, p.y - end_y) > BLOCKED_TOLERANCE
 
@@ -195,9 +197,3 @@ def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple
     half_turn = spin * dt / 2.0
     chord_speed = speed * (math.sin(half_turn) / half_turn if half_turn else 1.0)
     return (chord_speed * math.cos(angle + half_turn), chord_speed * math.sin(angle + half_turn))
-
-
-def _unobstructed_end(x: float, y: float, angle: float, speed: float, spin: float) -> tuple[float, float]:
-    """Where the robot would end the control step with no wall in the way."""
-    vx, vy = _chord_velocity(speed, spin, angle, CONTROL_DT)
-    return x + vx * CONTROL_DT, y + vy * CONTROL_DT
