@@ -49,16 +49,25 @@ def _scan(
             span = -span
         first = math.ceil(a0 / step - 1e-9)
         last = math.floor((a0 + span) / step + 1e-9)
+        # A ray strictly between the first and the last (at least one ray step inside the arc)
+        # meets the segment well inside its ends: its wall-side test u passes by a margin far
+        # beyond rounding, provided neither end is too close to the robot for the segment's
+        # length (u's rounding error is about eps * |e| / (|a| * step)), so it is skipped.
+        near2 = min(ax * ax + ay * ay, (ax + ex) * (ax + ex) + (ay + ey) * (ay + ey))
+        inside_sure = near2 * step * step > 1e-10 * (ex * ex + ey * ey)
         k = first % n
-        for _ in range(first, last + 1):
+        for i in range(first, last + 1):
             dx, dy = dxs[k], dys[k]
             denom = dx * ey - dy * ex
             if denom != 0.0:
                 t = cross / denom
                 if t >= 0.0 and t < ranges[k]:
-                    u = (ax * dy - ay * dx) / denom
-                    if -1e-9 <= u <= 1.0 + 1e-9:
+                    if inside_sure and first < i < last:
                         ranges[k] = t
+                    else:
+                        u = (ax * dy - ay * dx) / denom
+                        if -1e-9 <= u <= 1.0 + 1e-9:
+                            ranges[k] = t
             k += 1
             if k == n:
                 k = 0
