@@ -82,6 +82,15 @@ class RobotWorld:
         self.sim_time = 0.0
         self._last_dt = math.inf
 
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        del state["_cp_space"], state["_cp_body"]  # raw C pointers: taken again from the pymunk objects
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._cp_space, self._cp_body = self.space._space, self.body._body
+
     @property
     def position(self) -> tuple[float, float]:
         p = _cp.cpBodyGetPosition(self._cp_body)
