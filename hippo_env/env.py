@@ -229,10 +229,11 @@ class HippoMazeEnv(gym.Env):
         self._path_length = 0.0
         self._elapsed = 0
         self._shortest = self._shortest_path(start)
-        observation = self._observe(moved=(0.0, 0.0))
+        position, heading = self.world.position, self.world.heading
+        observation = self._observe(position, heading, moved=(0.0, 0.0))
         if self.render_mode == "human":
             self.render()
-        return observation, self._info(collision=False, success=False)
+        return observation, self._info(position, heading, collision=False, success=False)
 
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         before = self.world.position
@@ -250,13 +251,15 @@ class HippoMazeEnv(gym.Env):
         self._path_length += math.hypot(after[0] - before[0], after[1] - before[1])
         self._elapsed += 1
 
-        success = self.goal is not None and math.hypot(after[0] - self.goal[0], after[1] - self.goal[1]) < self.goal_radius
+        goal = self.goal
+        success = goal is not None and math.hypot(after[0] - goal[0], after[1] - goal[1]) < self.goal_radius
         reward = 1.0 if success else 0.0
-        if self.reward_type == "dense" and self.goal is not None:
+        if self.reward_type == "dense" and goal is not None:
             progress = self._distance_to_goal(before) - self._distance_to_goal(after)
             reward += 0.1 * progress / (physics.MAX_SPEED * physics.CONTROL_DT)
-        observation = self._observe(moved=(after[0] - before[0], after[1] - before[1]))
-        info = self._info(collision=collision, success=success)
+        heading = self.world.heading
+        observation = self._observe(after, heading, moved=(after[0] - before[0], after[1] - before[1]))
+        info = self._info(after, heading, collision=collision, success=success)
         if success:
             add_indirectness(info)
         if self.render_mode == "human":
@@ -307,15 +310,17 @@ class HippoMazeEnv(gym.Env):
             fps=self.metadata["render_fps"],
         )
 
-    def _observe(self, moved: tuple[float, float]) -> dict[str, np.ndarray]:
+    def _observe(self, position: tuple[float, float], heading: float, moved: tuple[float, float]) -> dict[str, np.ndarray]:
         """The observation at the robot's pose; ``moved`` is its allocentric displacement this step."""
-        heading = self.world.heading
-        ranges = self.rangefinder.scan(self._path[-1], heading)
-        self._ranges = ranges
         if self.range_noise > 0:
-            ranges = np.clip(ranges + self.np_random.normal(0.0, self.range_noise, ranges.shape), 0.0, self.rangefinder.max_range)
+            self._ranges = self.rangefinder.scan(position, heading)
+            noisy = self._ranges + self.np_random.normal(0.0, self.range_noise, self._ranges.shape)
+            ranges = np.clip(noisy, 0.0, self.rangefinder.max_range).astype(np.float32)
+        else:
+            ranges = self.rangefinder.scan_float32(position[0], position[1], heading)
+            self._ranges = self.rangefinder.last_ranges  # overwritten by the next scan; _frame copies it
         compass = heading + self.np_random.normal(0.0, self.heading_noise) if self.heading_noise > 0 else heading
-        observation = {"ranges": ranges.astype(np.float32), "heading": np.array([math.cos(compass), math.sin(compass)], np.float32)}
+        observation = {"ranges": ranges, "heading": np.array([math.cos(compass), math.sin(compass)], np.float32)}
         if self.odometry:
             c, s = math.cos(heading), math.sin(heading)
             step = np.array([c * moved[0] + s * moved[1], -s * moved[0] + c * moved[1]])  # (forward, left)
@@ -324,11 +329,11 @@ class HippoMazeEnv(gym.Env):
             observation["odometry"] = np.clip(step, -ODOMETRY_BOUND, ODOMETRY_BOUND).astype(np.float32)
         return observation
 
-    def _info(self, collision: bool, success: bool) -> dict[str, Any]:
+    def _info(self, position: tuple[float, float], heading: float, collision: bool, success: bool) -> dict[str, Any]:
         goal = np.full(2, math.nan) if self.goal is None else np.array(self.goal, dtype=np.float64)
         return {
-            "position": np.array(self._path[-1], dtype=np.float64),
-            "heading": self.world.heading,
+            "position": np.array(position, dtype=np.float64),
+            "heading": heading,
             "goal": goal,
             "is_success": success,
             "path_length": self._path_length,

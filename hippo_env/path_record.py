@@ -37,8 +37,10 @@ class PathRecord:
     def append(self, point: tuple[float, float]) -> None:
         """Record the next position (dropping the oldest once ``limit`` are kept)."""
         self.total += 1
+        x, y = point
         if self.limit is not None and self._count == self.limit:
-            self._data[self._oldest] = point
+            self._data[self._oldest, 0] = x
+            self._data[self._oldest, 1] = y
             self._oldest = (self._oldest + 1) % self.limit
             return
         if self._count == len(self._data):
@@ -46,7 +48,8 @@ class PathRecord:
             if self.limit is not None:
                 grown = min(grown, self.limit)
             self._data = np.concatenate([self._data, np.empty((grown - len(self._data), 2))])
-        self._data[self._count] = point
+        self._data[self._count, 0] = x  # two scalar writes: cheaper than converting a tuple to a row
+        self._data[self._count, 1] = y
         self._count += 1
 
     def __len__(self) -> int:

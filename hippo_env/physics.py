@@ -24,6 +24,10 @@ import math
 import numpy as np
 import pymunk
 
+# pymunk's own C bindings: the very functions its properties and Space.step call, without the
+# Python wrapping around each (Vec2d objects, checks for features this module does not use).
+from pymunk._chipmunk_cffi import lib as _cp
+
 from hippo_env.geometry import segments_clearance, wrap_angle
 from hippo_env.maze import MazeSpec
 
@@ -73,22 +77,33 @@ class RobotWorld:
         shape.elasticity = 0.0
         space.add(body, shape)
         self.space, self.body, self.shape = space, body, shape
+        self._cp_space, self._cp_body = space._space, body._body
+        self._mass, self._moment = body.mass, body.moment
         self.sim_time = 0.0
         self._last_dt = math.inf
 
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        del state["_cp_space"], state["_cp_body"]  # raw C pointers: taken again from the pymunk objects
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._cp_space, self._cp_body = self.space._space, self.body._body
+
     @property
     def position(self) -> tuple[float, float]:
-        x, y = self.body.position
-        return (x, y)
+        p = _cp.cpBodyGetPosition(self._cp_body)
+        return (p.x, p.y)
 
     @property
     def heading(self) -> float:
         """Compass heading in (-pi, pi]."""
-        return wrap_angle(self.body.angle)
+        return wrap_angle(_cp.cpBodyGetAngle(self._cp_body))
 
     def clearance(self) -> float:
         """Distance from the robot's centre to the nearest wall."""
-        p = self.body.position
+        p = _cp.cpBodyGetPosition(self._cp_body)
         return segments_clearance(p.x, p.y, self.segments)
 
     def drive_heading(self, heading: float) -> bool:
@@ -96,9 +111,9 @@ class RobotWorld:
 
         Returns whether a wall blocked the robot.
         """
-        turn = abs(wrap_angle(heading - self.body.angle))
+        turn = abs(wrap_angle(heading - _cp.cpBodyGetAngle(self._cp_body)))
         self.sim_time += turn / TURN_RATE
-        self.body.angle = wrap_angle(heading)
+        _cp.cpBodySetAngle(self._cp_body, wrap_angle(heading))
         return self.drive_wheels(1.0, 1.0)
 
     def drive_wheels(self, left: float, right: float) -> bool:
@@ -108,23 +123,27 @@ class RobotWorld:
         """
         speed = MAX_SPEED * (left + right) / 2.0
         spin = MAX_SPEED * (right - left) / AXLE_LENGTH
-        body = self.body
-        start = body.position
-        start_angle = body.angle
-        gap = self.clearance() - self.radius
+        body = self._cp_body
+        start = _cp.cpBodyGetPosition(body)
+        start_x, start_y = start.x, start.y
+        start_angle = _cp.cpBodyGetAngle(body)
+        gap = segments_clearance(start_x, start_y, self.segments) - self.radius
+        velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
         if gap > abs(speed) * CONTROL_DT + SKIN:
             # No wall within reach: one physics step integrates the whole control step.
-            body.velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
-            body.angular_velocity = spin
-            self._step(CONTROL_DT)
+            _cp.cpBodySetVelocity(body, velocity)
+            _cp.cpBodySetAngularVelocity(body, spin)
+            _cp.cpSpaceStep(self._cp_space, CONTROL_DT)
+            self._last_dt = CONTROL_DT
         else:
             self._drive_near_walls(speed, spin)
-        body.velocity = (0.0, 0.0)
-        body.angular_velocity = 0.0
+        _cp.cpBodySetVelocity(body, (0.0, 0.0))
+        _cp.cpBodySetAngularVelocity(body, 0.0)
         self.sim_time += CONTROL_DT
-        end_x, end_y = _unobstructed_end(start.x, start.y, start_angle, speed, spin)
-        x, y = body.position
-        return math.hypot(x - end_x, y - end_y) > BLOCKED_TOLERANCE
+        # Where the robot would have ended with no wall in the way.
+        end_x, end_y = start_x + velocity[0] * CONTROL_DT, start_y + velocity[1] * CONTROL_DT
+        p = _cp.cpBodyGetPosition(body)
+        return math.hypot(p.x - end_x, p.y - end_y) > BLOCKED_TOLERANCE
 
     def _drive_near_walls(self, speed: float, spin: float) -> None:
         """Substeps of ``SKIN`` travel, with the motors acting as forces.
@@ -136,7 +155,8 @@ class RobotWorld:
         (pymunk scales its cached contact impulses by the ratio of successive time steps)
         until the robot is clear of every wall, when one step finishes the control step.
         """
-        body, mass, moment = self.body, self.body.mass, self.body.moment
+        body, space, segments = self._cp_body, self._cp_space, self.segments
+        mass, moment = self._mass, self._moment
         dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
         substeps = round(CONTROL_DT / dt)
         if abs(substeps * dt - CONTROL_DT) > 1e-9:  # equal substeps: no sliver of a last one
@@ -146,26 +166,39 @@ class RobotWorld:
             # dt / last dt and kick the robot through the wall: forget them.
             self.space.remove(self.shape)
             self.space.add(self.shape)
+        cp = _cp  # the C functions, bound once: this loop is the simulator's hot path
+        get_angle, get_velocity, get_spin, get_position = (
+            cp.cpBodyGetAngle,
+            cp.cpBodyGetVelocity,
+            cp.cpBodyGetAngularVelocity,
+            cp.cpBodyGetPosition,
+        )
+        set_force, set_torque, space_step = cp.cpBodySetForce, cp.cpBodySetTorque, cp.cpSpaceStep
+        radius, travel, skin = self.radius, abs(speed), SKIN
         remaining = CONTROL_DT
-        body.velocity = (0.0, 0.0)
+        cp.cpBodySetVelocity(body, (0.0, 0.0))
         priming = True
+        angle = target_dt = None
         while remaining > 1e-12:
-            target = _chord_velocity(speed, spin, body.angle, dt)
-            velocity = body.velocity
-            body.force = (mass * (target[0] - velocity.x) / dt, mass * (target[1] - velocity.y) / dt)
-            body.torque = moment * (spin - body.angular_velocity) / dt
-            self._step(dt)
-            if not priming:
-                remaining -= dt
-            priming = False
-            if self.clearance() - self.radius > abs(speed) * remaining + SKIN:
-                dt = remaining
+            a = get_angle(body)
+            if a != angle or dt != target_dt:  # the same command as last substep: the same target
+                angle, target_dt = a, dt
+                target_x, target_y = _chord_velocity(speed, spin, a, dt)
+            velocity = get_velocity(body)
+            set_force(body, (mass * (target_x - velocity.x) / dt, mass * (target_y - velocity.y) / dt))
+            set_torque(body, moment * (spin - get_spin(body)) / dt)
+            space_step(space, dt)
+            stepped = dt
+            if priming:
+                priming = False
             else:
-                dt = min(dt, remaining)
-
-    def _step(self, dt: float) -> None:
-        self.space.step(dt)
-        self._last_dt = dt
+                remaining -= dt
+                if remaining <= 1e-12:
+                    break
+            p = get_position(body)
+            if remaining < dt or segments_clearance(p.x, p.y, segments) - radius > travel * remaining + skin:
+                dt = remaining
+        self._last_dt = stepped
 
 
 def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple[float, float]:
@@ -173,9 +206,3 @@ def _chord_velocity(speed: float, spin: float, angle: float, dt: float) -> tuple
     half_turn = spin * dt / 2.0
     chord_speed = speed * (math.sin(half_turn) / half_turn if half_turn else 1.0)
     return (chord_speed * math.cos(angle + half_turn), chord_speed * math.sin(angle + half_turn))
-
-
-def _unobstructed_end(x: float, y: float, angle: float, speed: float, spin: float) -> tuple[float, float]:
-    """Where the robot would end the control step with no wall in the way."""
-    vx, vy = _chord_velocity(speed, spin, angle, CONTROL_DT)
-    return x + vx * CONTROL_DT, y + vy * CONTROL_DT

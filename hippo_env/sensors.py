@@ -18,18 +18,28 @@ _TWO_PI = 2.0 * math.pi
 
 @njit(cache=True)
 def _scan(
-    x: float, y: float, heading: float, ray_cos: np.ndarray, ray_sin: np.ndarray, segments: np.ndarray, max_range: float, out: np.ndarray
+    x: float, y: float, heading: float, rays: np.ndarray, segments: np.ndarray, max_range: float, ranges: np.ndarray, ranges32: np.ndarray
 ) -> None:
-    n = ray_cos.shape[0]
+    """The ranges into ``ranges`` and, rounded, into ``ranges32`` (if it is not empty).
+
+    ``rays`` holds the egocentric unit vectors (cos, sin) in rows 0 and 1; rows 2 and 3 are
+    scratch for the allocentric ones.
+    """
+    n = rays.shape[1]
     step = _TWO_PI / n
     c, s = math.cos(heading), math.sin(heading)
+    dxs, dys = rays[2], rays[3]
     for k in range(n):
-        out[k] = max_range
+        # Ray direction: the egocentric unit vector rotated by the heading.
+        dxs[k] = c * rays[0, k] - s * rays[1, k]
+        dys[k] = s * rays[0, k] + c * rays[1, k]
+        ranges[k] = max_range
     for m in range(segments.shape[0]):
         ax = segments[m, 0] - x
         ay = segments[m, 1] - y
         ex = segments[m, 2] - segments[m, 0]
         ey = segments[m, 3] - segments[m, 1]
+        cross = ax * ey - ay * ex
         # Egocentric angles of the two end points, and the (shorter) arc between them.
         a0 = math.atan2(ay, ax) - heading
         a1 = math.atan2(ay + ey, ax + ex) - heading
@@ -39,18 +49,30 @@ def _scan(
             span = -span
         first = math.ceil(a0 / step - 1e-9)
         last = math.floor((a0 + span) / step + 1e-9)
+        # A ray strictly between the first and the last (at least one ray step inside the arc)
+        # meets the segment well inside its ends: its wall-side test u passes by a margin far
+        # beyond rounding, provided neither end is too close to the robot for the segment's
+        # length (u's rounding error is about eps * |e| / (|a| * step)), so it is skipped.
+        near2 = min(ax * ax + ay * ay, (ax + ex) * (ax + ex) + (ay + ey) * (ay + ey))
+        inside_sure = near2 * step * step > 1e-10 * (ex * ex + ey * ey)
+        k = first % n
         for i in range(first, last + 1):
-            k = i % n
-            # Ray direction: the egocentric unit vector rotated by the heading.
-            dx = c * ray_cos[k] - s * ray_sin[k]
-            dy = s * ray_cos[k] + c * ray_sin[k]
+            dx, dy = dxs[k], dys[k]
             denom = dx * ey - dy * ex
-            if denom == 0.0:
-                continue
-            t = (ax * ey - ay * ex) / denom
-            u = (ax * dy - ay * dx) / denom
-            if t >= 0.0 and -1e-9 <= u <= 1.0 + 1e-9 and t < out[k]:
-                out[k] = t
+            if denom != 0.0:
+                t = cross / denom
+                if t >= 0.0 and t < ranges[k]:
+                    if inside_sure and first < i < last:
+                        ranges[k] = t
+                    else:
+                        u = (ax * dy - ay * dx) / denom
+                        if -1e-9 <= u <= 1.0 + 1e-9:
+                            ranges[k] = t
+            k += 1
+            if k == n:
+                k = 0
+    for k in range(ranges32.shape[0]):
+        ranges32[k] = ranges[k]
 
 
 class Rangefinder:
@@ -74,10 +96,27 @@ class Rangefinder:
         self.n_rays = int(n_rays)
         self.max_range = float(max_range)
         angles = np.arange(self.n_rays) * (_TWO_PI / self.n_rays)
-        self._cos, self._sin = np.cos(angles), np.sin(angles)
-        self._out = np.empty(self.n_rays, dtype=np.float64)
+        self._rays = np.empty((4, self.n_rays))
+        self._rays[0], self._rays[1] = np.cos(angles), np.sin(angles)
+        self._last = np.empty(self.n_rays, dtype=np.float64)
+        self._no_float32 = np.empty(0, dtype=np.float32)
 
     def scan(self, position: np.ndarray | tuple[float, float], heading: float) -> np.ndarray:
         """Noise-free ranges (float64, a fresh array) from ``position`` facing ``heading``."""
-        _scan(float(position[0]), float(position[1]), float(heading), self._cos, self._sin, self.segments, self.max_range, self._out)
-        return self._out.copy()
+        ranges = np.empty(self.n_rays, dtype=np.float64)
+        _scan(float(position[0]), float(position[1]), float(heading), self._rays, self.segments, self.max_range, ranges, self._no_float32)
+        return ranges
+
+    def scan_float32(self, x: float, y: float, heading: float) -> np.ndarray:
+        """:meth:`scan` rounded to float32 (a fresh array), as an observation holds it.
+
+        The float64 ranges stay in :attr:`last_ranges` until the next call.
+        """
+        ranges32 = np.empty(self.n_rays, dtype=np.float32)
+        _scan(x, y, heading, self._rays, self.segments, self.max_range, self._last, ranges32)
+        return ranges32
+
+    @property
+    def last_ranges(self) -> np.ndarray:
+        """The float64 ranges of the latest :meth:`scan_float32` (overwritten by the next; copy to keep them)."""
+        return self._last

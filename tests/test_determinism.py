@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import copy
+import pickle
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -96,3 +99,17 @@ def test_unseeded_resets_continue_the_seeded_stream():
         starts.append([tuple(env.reset()[1]["position"]) for _ in range(5)])
     assert starts[0] == starts[1]
     assert len(set(starts[0])) == 5
+
+
+@pytest.mark.parametrize("copy_env", [copy.deepcopy, lambda env: pickle.loads(pickle.dumps(env))], ids=["deepcopy", "pickle"])
+def test_a_copied_env_continues_exactly_as_the_original(copy_env):
+    """A copy (deepcopy or pickle) taken mid-episode, near walls included, steps exactly as the original."""
+    env = gym.make("HippoMaze-v0", maze="maze3", action_type="wheels", n_rays=64)
+    env.reset(seed=2)
+    rng = np.random.default_rng(0)
+    for _ in range(100):
+        env.step(rng.uniform(-1.0, 1.0, 2).astype(np.float32))
+    twin = copy_env(env)
+    actions = rng.uniform(-1.0, 1.0, (150, 2)).astype(np.float32)
+    for action in actions:
+        assert_same(env.step(action), twin.step(action))

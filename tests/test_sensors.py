@@ -173,3 +173,19 @@ def test_no_noise_by_default_is_exact():
     env = HippoMazeEnv(maze="open", n_rays=90)
     obs, info = env.reset(seed=3)
     np.testing.assert_allclose(obs["ranges"], open_room_ranges(info["position"], info["heading"], 90), atol=TOL, rtol=0)
+
+
+@pytest.mark.parametrize("maze", hippo_env.BUILTIN_MAZES)
+def test_float32_scan_is_the_float64_scan_rounded(maze, specs):
+    """The observation's fused float32 scan equals scan() rounded to float32, to the bit; the float64 ranges are kept."""
+    spec = specs[maze]
+    finder = Rangefinder(spec.segments, 720, 10.0)
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        x, y = spec.sample_free(rng, 0.17)
+        heading = float(rng.uniform(-math.pi, math.pi))
+        ranges = finder.scan((x, y), heading)
+        ranges32 = finder.scan_float32(float(x), float(y), heading)
+        assert ranges32.dtype == np.float32
+        assert ranges32.tobytes() == ranges.astype(np.float32).tobytes()
+        assert finder.last_ranges.tobytes() == ranges.tobytes()
