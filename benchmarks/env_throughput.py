@@ -264,7 +264,7 @@ class _Timed:
 # exclusive time each part is; the rest of a step (``HippoMazeEnv.step`` itself, the observation
 # and info dicts, gymnasium's wrappers) is "step_overhead".
 ENV_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
-    "ray_cast": (("rangefinder", "scan"),),
+    "ray_cast": (("rangefinder", "scan"), ("rangefinder", "scan_float32")),
     "physics": (("world", "drive_heading"),),
     "reset": (("", "reset"),),
 }
