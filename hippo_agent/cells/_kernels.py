@@ -1,0 +1,186 @@
+"""Compiled loops (numba) for the cells' per-step updates.
+
+Each kernel does, element by element and in the same order, exactly the arithmetic of the NumPy
+expression it replaces (the equations stay written out in the calling method's comments), so the
+results are identical to the last bit: no reordered sums, no fused multiply-adds. Transcendentals
+(``exp``, ``tanh``) and BLAS products stay in NumPy, whose vectorised versions round differently
+from numba's.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _maximum0(x):  # pragma: no cover - compiled
+    """``np.maximum(x, 0.0)`` exactly: keeps -0.0 and NaN as NumPy does."""
+    return x if x >= 0.0 or math.isnan(x) else 0.0
+
+
+@njit(cache=True)
+def oja_rows(W_pb, act, v, b, eta, alpha):  # pragma: no cover - compiled
+    """Eq. 5 on rows ``act`` of the float32 ``W_pb``, in float64, flushing results below 1e-12 to 0."""
+    for a in range(act.size):
+        row = act[a]
+        va = v[row]
+        eta_va = eta * va
+        for c in range(b.size):
+            w = np.float64(W_pb[row, c])
+            x = w + eta_va * (b[c] - va * w / alpha)
+            if x < 1e-12:
+                x = 0.0
+            W_pb[row, c] = np.float32(x)
+
+
+@njit(cache=True)
+def pp_update(W_slots, s_post, s_pre, v_post, y_post, v_pre, y_pre, h):  # pragma: no cover - compiled
+    """Eq. 7 on one block: ``W[s_pre[j], k, s_post[i]] += float32(y_pre_j v_post_i - v_pre_j y_post_i) * h_k``."""
+    for j in range(s_pre.size):
+        sj = s_pre[j]
+        for i in range(s_post.size):
+            d = np.float32(y_pre[j] * v_post[i] - v_pre[j] * y_post[i])
+            si = s_post[i]
+            for k in range(h.size):
+                W_slots[sj, k, si] += d * h[k]
+
+
+@njit(cache=True)
+def pp_update_silent_post(W_slots, s_post, s_pre, v_pre, y_post, h):  # pragma: no cover - compiled
+    """Eq. 7 where every post-synaptic rate is 0: ``W[s_pre[j], k, s_post[i]] += float32(-(v_pre_j y_post_i)) * h_k``."""
+    for j in range(s_pre.size):
+        sj = s_pre[j]
+        for i in range(s_post.size):
+            d = np.float32(-(v_pre[j] * y_post[i]))
+            si = s_post[i]
+            for k in range(h.size):
+                W_slots[sj, k, si] += d * h[k]
+
+
+@njit(cache=True)
+def bvc_exponents(
+    ranges, alloc_idx, shift, ang_w, max_range, ignore_max_range, distances, inv_two_var_r, w_out, arg_out
+):  # pragma: no cover - compiled
+    """For the scan rolled by ``shift`` rays: each ray's angular weight (0 for a ray at max range
+    if ignored) and eq. 2's Gaussian exponents ``-(r - d_m)^2 / (2 sigma_r^2)``."""
+    n_rays = ranges.size
+    D, W = alloc_idx.shape
+    for d in range(D):
+        for k in range(W):
+            r = np.float64(ranges[(alloc_idx[d, k] - shift) % n_rays])
+            w_out[d, k] = 0.0 if ignore_max_range and r >= max_range - 1e-6 else ang_w[d, k]
+            for m in range(distances.size):
+                diff = r - distances[m]
+                arg_out[d, k, m] = -(diff * diff) * inv_two_var_r[m]
+
+
+@njit(cache=True)
+def bvc_sum(w, g, coef, tiny, out):  # pragma: no cover - compiled
+    """``out[d * M + m] = (sum_k w[d, k] g[d, k, m]) * coef[m]`` summed in ray order, below ``tiny`` set to 0."""
+    D, W, M = g.shape
+    for d in range(D):
+        for m in range(M):
+            acc = 0.0
+            for k in range(W):
+                acc += w[d, k] * g[d, k, m]
+            x = acc * coef[m]
+            out[d * M + m] = 0.0 if x < tiny else x
+
+
+@njit(cache=True)
+def advance(s, Wb, inhibition, extra, has_extra, k, psi, s_out, x_out, nonzero):  # pragma: no cover - compiled
+    """Eq. 3's Euler step into ``s_out`` (drive ``Wb - inhibition``, plus ``extra`` if ``has_extra``)
+    and eq. 4's rectified argument ``[psi s]+`` into ``x_out`` (the caller takes its tanh); the
+    indices where that argument is not 0 go to ``nonzero``, their count is returned."""
+    count = 0
+    for i in range(s.size):
+        drive = np.float64(Wb[i]) - inhibition
+        if has_extra:
+            drive = drive + extra[i]
+        si = s[i] + k * (-s[i] + drive)
+        s_out[i] = si
+        x = _maximum0(psi * si)
+        x_out[i] = x
+        if x != 0.0:
+            nonzero[count] = i
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def centre_exponents(centres, centre_mass, position, two_var, out):  # pragma: no cover - compiled
+    """``-|p - c_i|^2 / two_var`` for the cells with a centre, 0 for the others."""
+    for i in range(centre_mass.size):
+        if centre_mass[i] > 0.0:
+            dx = centres[i, 0] - position[0]
+            dy = centres[i, 1] - position[1]
+            out[i] = -(dx * dx + dy * dy) / two_var
+        else:
+            out[i] = 0.0
+
+
+@njit(cache=True)
+def centre_drive(g, centre_mass, gain, threshold, out):  # pragma: no cover - compiled
+    """``gain * (g_i - threshold)`` for the cells with a centre, 0 for the others."""
+    for i in range(centre_mass.size):
+        out[i] = gain * (g[i] - threshold) if centre_mass[i] > 0.0 else 0.0
+
+
+@njit(cache=True)
+def learn_centres(v, centres, centre_mass, position, max_mass):  # pragma: no cover - compiled
+    """Each active cell's centre moves toward ``position`` by ``v_i / mass_i`` (mass capped at ``max_mass``)."""
+    for i in range(v.size):
+        if v[i] > 0.0:
+            mass = centre_mass[i] + v[i]
+            mass = min(mass, max_mass)
+            rate = v[i] / mass
+            centres[i, 0] += rate * (position[0] - centres[i, 0])
+            centres[i, 1] += rate * (position[1] - centres[i, 1])
+            centre_mass[i] = mass
+
+
+@njit(cache=True)
+def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, max_mass):  # pragma: no cover - compiled
+    """Running mean, weighted by the BVC-only rate, of each centred cell's squared distance to ``position``."""
+    for i in range(v_sense.size):
+        if v_sense[i] > 0.0 and centre_mass[i] > 0.0:
+            mass = spread_mass[i] + v_sense[i]
+            mass = min(mass, max_mass)
+            dx = centres[i, 0] - position[0]
+            dy = centres[i, 1] - position[1]
+            spread[i] += v_sense[i] / mass * ((dx * dx + dy * dy) - spread[i])
+            spread_mass[i] = mass
+
+
+@njit(cache=True)
+def vote_exponents(particles, offset, centres, variance, out):  # pragma: no cover - compiled
+    """``-|(x_p - offset) - c_a|^2 / (2 variance_a)`` for every sample ``p`` and voting cell ``a``."""
+    for p in range(particles.shape[0]):
+        x = particles[p, 0] - offset[0]
+        y = particles[p, 1] - offset[1]
+        for a in range(centres.shape[0]):
+            dx = x - centres[a, 0]
+            dy = y - centres[a, 1]
+            out[p, a] = -(dx * dx + dy * dy) / (2.0 * variance[a])
+
+
+@njit(cache=True)
+def preplay_argument(rec, slot, v, out, nonzero):  # pragma: no cover - compiled
+    """``out[k, i] = [rec[k, slot_i] - v_i]+``, the float32 recurrent drive ``rec`` over the slots
+    taken as 0 for a cell without a slot (``slot_i < 0``): eq. 8's argument. The flat indices where
+    it is not 0 go to ``nonzero``, their count is returned."""
+    n_hd, n = out.shape
+    zero = np.float32(0.0)
+    count = 0
+    for k in range(n_hd):
+        for i in range(n):
+            drive = rec[k, slot[i]] if slot[i] >= 0 else zero
+            x = _maximum0(np.float64(drive) - v[i])
+            out[k, i] = x
+            if x != 0.0:
+                nonzero[count] = k * n + i
+                count += 1
+    return count
