@@ -4,7 +4,7 @@ Each kernel does, element by element and in the same order, exactly the arithmet
 expression it replaces (the equations stay written out in the calling method's comments), so the
 results are identical to the last bit: no reordered sums, no fused multiply-adds. Transcendentals
 (``exp``, ``tanh``) and BLAS products stay in NumPy, whose vectorised versions round differently
-from numba's.
+from numba's. ``error_model="numpy"``: a division by 0 gives inf or nan, as in NumPy, not an exception.
 """
 
 from __future__ import annotations
@@ -15,18 +15,20 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _maximum0(x):  # pragma: no cover - compiled
     """``np.maximum(x, 0.0)`` exactly: keeps -0.0 and NaN as NumPy does."""
     return x if x >= 0.0 or math.isnan(x) else 0.0
 
 
-@njit(cache=True)
-def oja_rows(W_pb, act, v, b, eta, alpha):  # pragma: no cover - compiled
-    """Eq. 5 on rows ``act`` of the float32 ``W_pb``, in float64, flushing results below 1e-12 to 0."""
-    for a in range(act.size):
-        row = act[a]
+@njit(cache=True, error_model="numpy")
+def oja_active_rows(W_pb, v, b, eta, alpha):  # pragma: no cover - compiled
+    """Eq. 5 on the rows of the float32 ``W_pb`` whose cell is active (``v_i > 0``; for the others
+    the update is exactly 0), in float64, flushing results below 1e-12 to 0."""
+    for row in range(v.size):
         va = v[row]
+        if not va > 0.0:
+            continue
         eta_va = eta * va
         for c in range(b.size):
             w = np.float64(W_pb[row, c])
@@ -36,31 +38,67 @@ def oja_rows(W_pb, act, v, b, eta, alpha):  # pragma: no cover - compiled
             W_pb[row, c] = np.float32(x)
 
 
-@njit(cache=True)
-def pp_update(W_slots, s_post, s_pre, v_post, y_post, v_pre, y_pre, h):  # pragma: no cover - compiled
-    """Eq. 7 on one block: ``W[s_pre[j], k, s_post[i]] += float32(y_pre_j v_post_i - v_pre_j y_post_i) * h_k``."""
-    for j in range(s_pre.size):
-        sj = s_pre[j]
-        for i in range(s_post.size):
-            d = np.float32(y_pre[j] * v_post[i] - v_pre[j] * y_post[i])
-            si = s_post[i]
+@njit(cache=True, error_model="numpy")
+def pp_cells(v, trace):  # pragma: no cover - compiled
+    """The cells eq. 7 touches: active (``v > 0``), active or traced, and traced but silent."""
+    n = v.size
+    act, idx, rest = np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.int64)
+    n_act = n_idx = n_rest = 0
+    for i in range(n):
+        on, traced = v[i] > 0.0, trace[i] > 0.0
+        if on:
+            act[n_act] = i
+            n_act += 1
+        if on or traced:
+            idx[n_idx] = i
+            n_idx += 1
+        if traced and not on:
+            rest[n_rest] = i
+            n_rest += 1
+    return act[:n_act], idx[:n_idx], rest[:n_rest]
+
+
+@njit(cache=True, error_model="numpy")
+def pp_update(W_slots, slot, v, trace, act, idx, rest, h):  # pragma: no cover - compiled
+    """Eq. 7 on its two nonzero blocks, ``W[slot_j, k, slot_i] += float32(v_i Y_j - v_j Y_i) * h_k``:
+    post ``i`` active and pre ``j`` active or traced; pre ``j`` active and post ``i`` silent but
+    traced (there ``v_i = 0``: ``float32(-(v_j Y_i)) * h_k``)."""
+    for j in idx:
+        sj = slot[j]
+        for i in act:
+            d = np.float32(trace[j] * v[i] - v[j] * trace[i])
+            si = slot[i]
+            for k in range(h.size):
+                W_slots[sj, k, si] += d * h[k]
+    for j in act:
+        sj = slot[j]
+        for i in rest:
+            d = np.float32(-(v[j] * trace[i]))
+            si = slot[i]
             for k in range(h.size):
                 W_slots[sj, k, si] += d * h[k]
 
 
-@njit(cache=True)
-def pp_update_silent_post(W_slots, s_post, s_pre, v_pre, y_post, h):  # pragma: no cover - compiled
-    """Eq. 7 where every post-synaptic rate is 0: ``W[s_pre[j], k, s_post[i]] += float32(-(v_pre_j y_post_i)) * h_k``."""
-    for j in range(s_pre.size):
-        sj = s_pre[j]
-        for i in range(s_post.size):
-            d = np.float32(-(v_pre[j] * y_post[i]))
-            si = s_post[i]
-            for k in range(h.size):
-                W_slots[sj, k, si] += d * h[k]
+@njit(cache=True, error_model="numpy")
+def update_trace(trace, v, rate, floor):  # pragma: no cover - compiled
+    """Eq. 6: ``Y += rate (v - Y)``, values below ``floor`` set to 0."""
+    for i in range(v.size):
+        y = trace[i] + rate * (v[i] - trace[i])
+        trace[i] = 0.0 if y < floor else y
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def within(points, centre, radius_sq):  # pragma: no cover - compiled
+    """Which rows of ``points`` (n, 2) lie within ``sqrt(radius_sq)`` of ``centre``."""
+    out = np.empty(points.shape[0], np.bool_)
+    for p in range(points.shape[0]):
+        dx = points[p, 0] - centre[0]
+        dy = points[p, 1] - centre[1]
+        out[p] = dx * dx + dy * dy <= radius_sq
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def bvc_exponents(
     ranges, alloc_idx, shift, ang_w, max_range, ignore_max_range, distances, inv_two_var_r, w_out, arg_out
 ):  # pragma: no cover - compiled
@@ -77,7 +115,7 @@ def bvc_exponents(
                 arg_out[d, k, m] = -(diff * diff) * inv_two_var_r[m]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bvc_sum(w, g, coef, tiny, out):  # pragma: no cover - compiled
     """``out[d * M + m] = (sum_k w[d, k] g[d, k, m]) * coef[m]`` summed in ray order, below ``tiny`` set to 0."""
     D, W, M = g.shape
@@ -90,7 +128,7 @@ def bvc_sum(w, g, coef, tiny, out):  # pragma: no cover - compiled
             out[d * M + m] = 0.0 if x < tiny else x
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def advance(s, Wb, inhibition, extra, has_extra, k, psi, s_out, x_out, nonzero):  # pragma: no cover - compiled
     """Eq. 3's Euler step into ``s_out`` (drive ``Wb - inhibition``, plus ``extra`` if ``has_extra``)
     and eq. 4's rectified argument ``[psi s]+`` into ``x_out`` (the caller takes its tanh); the
@@ -110,7 +148,7 @@ def advance(s, Wb, inhibition, extra, has_extra, k, psi, s_out, x_out, nonzero):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def centre_exponents(centres, centre_mass, position, two_var, out):  # pragma: no cover - compiled
     """``-|p - c_i|^2 / two_var`` for the cells with a centre, 0 for the others."""
     for i in range(centre_mass.size):
@@ -122,14 +160,14 @@ def centre_exponents(centres, centre_mass, position, two_var, out):  # pragma: n
             out[i] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def centre_drive(g, centre_mass, gain, threshold, out):  # pragma: no cover - compiled
     """``gain * (g_i - threshold)`` for the cells with a centre, 0 for the others."""
     for i in range(centre_mass.size):
         out[i] = gain * (g[i] - threshold) if centre_mass[i] > 0.0 else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def learn_centres(v, centres, centre_mass, position, max_mass):  # pragma: no cover - compiled
     """Each active cell's centre moves toward ``position`` by ``v_i / mass_i`` (mass capped at ``max_mass``)."""
     for i in range(v.size):
@@ -142,7 +180,7 @@ def learn_centres(v, centres, centre_mass, position, max_mass):  # pragma: no co
             centre_mass[i] = mass
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, max_mass):  # pragma: no cover - compiled
     """Running mean, weighted by the BVC-only rate, of each centred cell's squared distance to ``position``."""
     for i in range(v_sense.size):
@@ -155,7 +193,7 @@ def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, m
             spread_mass[i] = mass
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def vote_exponents(particles, offset, centres, variance, out):  # pragma: no cover - compiled
     """``-|(x_p - offset) - c_a|^2 / (2 variance_a)`` for every sample ``p`` and voting cell ``a``."""
     for p in range(particles.shape[0]):
@@ -167,7 +205,7 @@ def vote_exponents(particles, offset, centres, variance, out):  # pragma: no cov
             out[p, a] = -(dx * dx + dy * dy) / (2.0 * variance[a])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def preplay_argument(rec, slot, v, out, nonzero):  # pragma: no cover - compiled
     """``out[k, i] = [rec[k, slot_i] - v_i]+``, the float32 recurrent drive ``rec`` over the slots
     taken as 0 for a cell without a slot (``slot_i < 0``): eq. 8's argument. The flat indices where
@@ -184,3 +222,12 @@ def preplay_argument(rec, slot, v, out, nonzero):  # pragma: no cover - compiled
                 nonzero[count] = k * n + i
                 count += 1
     return count
+
+
+@njit(cache=True, error_model="numpy")
+def hd_rates(c, s, cos, sin, out):  # pragma: no cover - compiled
+    """Eq. 1, ``(c cos theta_k + s sin theta_k) / |(c, s)|``; returns the norm (0: no direction)."""
+    norm = math.hypot(c, s)
+    for k in range(out.size):
+        out[k] = (c * cos[k] + s * sin[k]) / norm
+    return norm

@@ -162,7 +162,7 @@ class PathIntegrator:
     def _summarise(self) -> None:
         """The estimate is the weighted mean of the heaviest sample's cluster; its weight is the confidence."""
         best = self.particles[int(np.argmax(self.weights))]
-        near = ((self.particles - best) ** 2).sum(axis=1) <= self.anchor_radius**2
+        near = _kernels.within(self.particles, best, self.anchor_radius**2)
         w = self.weights[near]
         self.confidence = float(w.sum())
         self.estimate = (w @ self.particles[near]) / self.confidence

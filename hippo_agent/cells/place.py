@@ -214,10 +214,9 @@ class PlaceCells:
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
         """Oja's rule (eq. 5) on the rows of the active cells only."""
-        act = np.flatnonzero(self.v > 0.0)
         # eq. 5: W_i += eta_pb v_i (b - v_i W_i / alpha_pb), in float64 per active row i; weights decayed
         # below 1e-12 are flushed to 0 before they become slow denormal float32s
-        _kernels.oja_rows(self.W_pb, act, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
+        _kernels.oja_active_rows(self.W_pb, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
 
     def update_hd_trace(self, h: np.ndarray) -> None:
         """Move the head-direction trace Upsilon^h toward ``h`` (eq. 6c)."""
@@ -225,8 +224,7 @@ class PlaceCells:
 
     def update_trace(self) -> None:
         """Move the place-cell trace Upsilon^p toward the rates (eqs. 6a-b), flooring tiny values."""
-        self.trace += self.trace_rate * (self.v - self.trace)  # eq. 6
-        self.trace[self.trace < self.trace_floor] = 0.0
+        _kernels.update_trace(self.trace, self.v, self.trace_rate, self.trace_floor)  # eq. 6
 
     @property
     def n_slots(self) -> int:
@@ -256,21 +254,12 @@ class PlaceCells:
         where it can be nonzero: post-synaptic ``i`` active (any traced or active ``j``), and
         pre-synaptic ``j`` active (the other ``i``).
         """
-        on = self.v > 0.0
-        act = np.flatnonzero(on)
+        act, idx, rest = _kernels.pp_cells(self.v, self.trace)
         if act.size == 0:
             return
-        traced = self.trace > 0.0
-        idx = np.flatnonzero(on | traced)
-        rest = np.flatnonzero(traced & ~on)
-        s_idx = self._ensure_slots(idx)
-        s_act, s_rest = self.slot[act], self.slot[rest]
+        self._ensure_slots(idx)
         h = (self.eta_pp * self.hd_trace).astype(np.float32)
-        # block A: post i in act, pre j in idx, stored [j, k, i]: (v_i Y_j - v_j Y_i) h_k (eq. 7)
-        _kernels.pp_update(self.W_slots, s_act, s_idx, self.v[act], self.trace[act], self.v[idx], self.trace[idx], h)
-        if rest.size:
-            # block B: pre j in act, post i in rest (v_i = 0): -v_j Y_i h_k (eq. 7)
-            _kernels.pp_update_silent_post(self.W_slots, s_rest, s_act, self.v[act], self.trace[rest], h)
+        _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, act, idx, rest, h)  # eq. 7
 
     def set_W_pp(self, pre: int, post: int, weights: np.ndarray) -> None:
         """Set ``W^pp_{k, post, pre}`` for every direction ``k`` (for tests and experiments)."""
