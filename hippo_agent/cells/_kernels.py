@@ -206,17 +206,26 @@ def vote_exponents(particles, offset, centres, variance, out):  # pragma: no cov
 
 
 @njit(cache=True, error_model="numpy")
-def preplay_argument(rec, slot, v, out, nonzero):  # pragma: no cover - compiled
+def preplay_argument(rec, slot_cells, slot, v, out, nonzero):  # pragma: no cover - compiled
     """``out[k, i] = [rec[k, slot_i] - v_i]+``, the float32 recurrent drive ``rec`` over the slots
-    taken as 0 for a cell without a slot (``slot_i < 0``): eq. 8's argument. The flat indices where
-    it is not 0 go to ``nonzero``, their count is returned."""
+    (``slot_cells`` their cells, ``slot`` each cell's slot or -1) taken as 0 for a cell without one:
+    eq. 8's argument. The flat indices where it is not 0 go to ``nonzero`` (in no particular
+    order), their count is returned."""
     n_hd, n = out.shape
-    zero = np.float32(0.0)
     count = 0
+    for i in range(n):  # no recurrent drive: the same in every direction
+        out[0, i] = _maximum0(0.0 - v[i])
+    for k in range(1, n_hd):
+        out[k, :] = out[0, :]
+    for i in range(n):
+        if slot[i] < 0 and out[0, i] != 0.0:
+            for k in range(n_hd):
+                nonzero[count] = k * n + i
+                count += 1
     for k in range(n_hd):
-        for i in range(n):
-            drive = rec[k, slot[i]] if slot[i] >= 0 else zero
-            x = _maximum0(np.float64(drive) - v[i])
+        for c in range(slot_cells.size):
+            i = slot_cells[c]
+            x = _maximum0(np.float64(rec[k, c]) - v[i])
             out[k, i] = x
             if x != 0.0:
                 nonzero[count] = k * n + i
@@ -231,3 +240,56 @@ def hd_rates(c, s, cos, sin, out):  # pragma: no cover - compiled
     for k in range(out.size):
         out[k] = (c * cos[k] + s * sin[k]) / norm
     return norm
+
+
+@njit(cache=True, error_model="numpy")
+def divide_where_positive(x, total):  # pragma: no cover - compiled
+    """``x /= total`` where ``total > 0``, ``x = 0`` elsewhere."""
+    for r in range(x.size):
+        x[r] = x[r] / total[r] if total[r] > 0.0 else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def depress(W, v, lambda_):  # pragma: no cover - compiled
+    """Eq. 11: ``W -= lambda W v`` elementwise."""
+    for i in range(W.size):
+        W[i] -= lambda_ * W[i] * v[i]
+
+
+@njit(cache=True, error_model="numpy")
+def voting_cells(v_sense, centre_mass, min_mass):  # pragma: no cover - compiled
+    """The BVC-only rates of the active cells (``v_sense > 0``), and the indices of those among
+    them whose centre has at least ``min_mass``."""
+    n_on = n_act = 0
+    for i in range(v_sense.size):
+        if v_sense[i] > 0.0:
+            n_on += 1
+            if centre_mass[i] >= min_mass:
+                n_act += 1
+    on_rates, act = np.empty(n_on), np.empty(n_act, np.int64)
+    n_on = n_act = 0
+    for i in range(v_sense.size):
+        if v_sense[i] > 0.0:
+            on_rates[n_on] = v_sense[i]
+            n_on += 1
+            if centre_mass[i] >= min_mass:
+                act[n_act] = i
+                n_act += 1
+    return on_rates, act
+
+
+@njit(cache=True, error_model="numpy")
+def max_over_directions(W_slots, slot, slot_cells, rows, out):  # pragma: no cover - compiled
+    """``out[r, slot_cells[c]] = max_k W_slots[slot[rows[r]], k, c]`` for each row whose cell has a
+    slot (NaN propagates, as in ``ndarray.max``); other entries are left as they are."""
+    for r in range(rows.size):
+        s = slot[rows[r]]
+        if s < 0:
+            continue
+        for c in range(slot_cells.size):
+            x = W_slots[s, 0, c]
+            for k in range(1, W_slots.shape[1]):
+                y = W_slots[s, k, c]
+                if y > x or math.isnan(y):
+                    x = y
+            out[r, slot_cells[c]] = x

@@ -205,11 +205,11 @@ class PlaceCells:
         accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
         the edge of what has been mapped, where cells without a centre yet are active), and their
         spreads (:meth:`learn_spread`)."""
-        on = self.v_sense > 0.0
-        act = np.flatnonzero(on & (self.centre_mass >= min_mass))
-        total = float(self.v_sense[on].sum())
-        share = float(self.v_sense[act].sum()) / total if total > 0 else 0.0
-        return self.v_sense[act], self.centres[act], share, self.spread[act]
+        on_rates, act = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass)
+        total = float(on_rates.sum())
+        rates = self.v_sense[act]
+        share = float(rates.sum()) / total if total > 0 else 0.0
+        return rates, self.centres[act], share, self.spread[act]
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
@@ -308,7 +308,7 @@ class PlaceCells:
     # ------------------------------------------------------------------ imagination
     def preplay(self, v: np.ndarray | None = None) -> np.ndarray:
         """Imagined rates one step away in each direction (eq. 8), shape ``(n_hd, n)``."""
-        v = self.v if v is None else v
+        v = np.asarray(self.v if v is None else v, dtype=np.float64)
         act = np.flatnonzero(v > 0.0)
         act = act[self.slot[act] >= 0]  # cells without a slot drive nothing
         m = self.n_slots
@@ -318,7 +318,7 @@ class PlaceCells:
         else:
             rec = np.zeros((self.n_hd, m), dtype=np.float32)
         x = np.empty((self.n_hd, self.n))
-        count = _kernels.preplay_argument(rec, self.slot, np.asarray(v, dtype=np.float64), x, self._nonzero_hd)
+        count = _kernels.preplay_argument(rec, self.slot_cells, self.slot, v, x, self._nonzero_hd)
         _tanh_nonzero(x.reshape(-1), self._nonzero_hd[:count])  # eq. 8
         return x
 
@@ -328,8 +328,5 @@ class PlaceCells:
         (replay asks only for the rows of cells it has reached); ``None`` = all."""
         rows = np.arange(self.n) if rows is None else np.asarray(rows, dtype=np.int64)
         out = np.zeros((rows.size, self.n), dtype=np.float32)
-        has = self.slot[rows] >= 0
-        if has.any():
-            m = self.n_slots
-            out[np.ix_(has, self.slot_cells)] = self.W_slots[self.slot[rows[has]], :, :m].max(axis=1)
+        _kernels.max_over_directions(self.W_slots, self.slot, self.slot_cells, rows, out)
         return out

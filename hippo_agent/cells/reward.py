@@ -6,6 +6,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["RewardCells", "replay"]
 
 
@@ -112,11 +114,9 @@ class RewardCells:
             return float(v @ W) / total if total > 0.0 else 0.0  # eq. 9
         total = v.sum(axis=1)
         out = v @ W
-        nz = total > 0.0
-        out[nz] /= total[nz]  # eq. 9
-        out[~nz] = 0.0
+        _kernels.divide_where_positive(out, total)  # eq. 9
         return out
 
     def depress(self, v: np.ndarray, lambda_: float) -> None:
         """Depress the effective weights of the active cells (eq. 11)."""
-        self.W_eff -= lambda_ * self.W_eff * v  # eq. 11
+        _kernels.depress(self.W_eff, np.asarray(v, dtype=np.float64), float(lambda_))  # eq. 11: W_eff -= lambda W_eff v
