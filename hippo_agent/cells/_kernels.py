@@ -293,3 +293,13 @@ def max_over_directions(W_slots, slot, slot_cells, rows, out):  # pragma: no cov
                 if y > x or math.isnan(y):
                     x = y
             out[r, slot_cells[c]] = x
+
+
+@njit(cache=True, error_model="numpy")
+def rows_as_float64(M, rows):  # pragma: no cover - compiled
+    """``M[rows].astype(np.float64)`` without the intermediate copy."""
+    out = np.empty((rows.size, M.shape[1]))
+    for r in range(rows.size):
+        for c in range(M.shape[1]):
+            out[r, c] = M[rows[r], c]
+    return out

@@ -34,17 +34,20 @@ def replay(
         M = np.zeros((n, n), dtype=np.float32)
         have = np.zeros(n, dtype=bool)
     dW = np.zeros_like(v_bar)
+    active = rows = None
     for t_r in range(iterations):
         dW += v_bar / v_bar.max() * np.exp(-t_r / tau_r)  # Algorithm 1, line 3
-        active = np.flatnonzero(v_bar > 0.0)
-        if callable(W_max):
-            need = active[~have[active]]
-            if need.size:
-                M[need] = rows_of(need)
-                have[need] = True
-            rows = M[active]
-        else:
-            rows = W_max[active]
+        was_active, active = active, np.flatnonzero(v_bar > 0.0)
+        if was_active is None or not np.array_equal(active, was_active):  # else the same rows again
+            if callable(W_max):
+                need = active[~have[active]]
+                if need.size:
+                    M[need] = rows_of(need)
+                    have[need] = True
+                rows = _kernels.rows_as_float64(M, active)
+            else:
+                rows = W_max[active].astype(np.float64)
+            # (the product below is in float64: the rows are cast once, not on every iteration)
         spread = v_bar[active] @ rows  # sum_l (max_k W^pp_{kjl}) v_bar_l
         v_bar = np.tanh(np.maximum(v_bar + spread, 0.0))  # Algorithm 1, line 4
         if not np.any(v_bar > 0.0):
