@@ -285,9 +285,10 @@ class HippocampalAgent:
         if plastic and (dry or c.learn_pb_in_trials):
             self.place.learn_pb(b)
         if plastic and c.path_integration:
-            self.place.learn_centres(self.pi.lagged_estimate(), c.pi_centre_max_mass)
+            where = self.pi.lagged_estimate()
+            self.place.learn_centres(where, c.pi_centre_max_mass)
             if c.pi_vote_by_spread:
-                self.place.learn_spread(self.pi.lagged_estimate(), c.pi_centre_max_mass)
+                self.place.learn_spread(where, c.pi_centre_max_mass)
         self.place.update_hd_trace(h)
         learn_pp = (not dry or c.learn_pp_in_dry_run) and (c.learn_pp_in_exploitation or self.last_decision == "explore")
         if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)

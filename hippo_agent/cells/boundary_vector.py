@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["BoundaryVectorCells"]
 
 TINY = 1e-12  # rates below this (1e-12 of the peak rate's scale) are exactly 0
@@ -101,6 +103,8 @@ class BoundaryVectorCells:
         self._scale = float(peak_rate / peak.max())
         self._coef = self._scale * self._norm_r  # (M,)
         self.rates = np.zeros(self.n)
+        self._w = np.empty(self._ang_w.shape)  # scratch: the scan's angular weights
+        self._g = np.empty((*self._ang_w.shape, self.n_distances))  # scratch: eq. 2's radial Gaussians
 
     @property
     def preferred(self) -> tuple[np.ndarray, np.ndarray]:
@@ -121,18 +125,25 @@ class BoundaryVectorCells:
         if ranges.shape != (self.n_rays,):
             raise ValueError(f"ranges has shape {ranges.shape}; expected ({self.n_rays},) as set by n_rays")
         # allocentric ray j is egocentric ray j - shift (the scan rolled by the heading)
-        idx = self._alloc_idx - self.heading_shift(heading)
-        np.mod(idx, self.n_rays, out=idx)
-        r = ranges[idx].astype(np.float64)  # (D, W)
-        w = self._ang_w
-        if self.ignore_max_range:
-            w = np.where(r >= self.max_range - 1e-6, 0.0, w)
-        diff = r[:, :, None] - self.distances[None, None, :]  # (D, W, M)
-        # eq. 2: sum over rays of G(r - d_i; sigma_r) * G(theta - phi_i; sigma_theta) * dtheta
-        g = np.exp(-(diff * diff) * self._inv_two_var_r)
-        out = np.einsum("dw,dwm->dm", w, g) * self._coef
-        out[out < TINY] = 0.0  # flush the Gaussian's far tail: denormal float32s slow every product
-        return out.ravel()
+        w, g = self._w, self._g
+        _kernels.bvc_exponents(
+            ranges,
+            self._alloc_idx,
+            self.heading_shift(heading),
+            self._ang_w,
+            self.max_range,
+            self.ignore_max_range,
+            self.distances,
+            self._inv_two_var_r,
+            w,
+            g,
+        )
+        np.exp(g, out=g)
+        # eq. 2: sum over rays of G(r - d_i; sigma_r) * G(theta - phi_i; sigma_theta) * dtheta; the Gaussian's far
+        # tail (below TINY) is flushed to 0: denormal float32s slow every product
+        out = np.empty(self.n)
+        _kernels.bvc_sum(w, g, self._coef, TINY, out)
+        return out
 
     def update(self, ranges: np.ndarray, heading: float) -> np.ndarray:
         """Set and return the rates for a scan (see :meth:`rates_for`)."""

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["HeadDirectionCells"]
 
 
@@ -30,12 +32,11 @@ class HeadDirectionCells:
 
     def rates_for(self, heading_vec: np.ndarray) -> np.ndarray:
         """Rates for a heading given as ``(cos, sin)`` (need not be unit length), without updating."""
-        c, s = float(heading_vec[0]), float(heading_vec[1])
-        norm = np.hypot(c, s)
-        if norm == 0.0:
-            raise ValueError("heading vector (0, 0) has no direction")
         # eq. 1: v^h_k = <unit heading, (cos theta_k, sin theta_k)> = cos(heading - theta_k)
-        return (c * self._cos + s * self._sin) / norm
+        rates = np.empty(self.n)
+        if _kernels.hd_rates(float(heading_vec[0]), float(heading_vec[1]), self._cos, self._sin, rates) == 0.0:
+            raise ValueError("heading vector (0, 0) has no direction")
+        return rates
 
     def update(self, heading_vec: np.ndarray) -> np.ndarray:
         """Set and return the rates for the heading ``(cos, sin)``."""

@@ -42,6 +42,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["PathIntegrator"]
 
 VOTE_FLOOR = 1e-3  # likelihood of a sample far from every voted centre (never exactly 0)
@@ -121,14 +123,15 @@ class PathIntegrator:
         place votes broadly and weakly, and the cells that fire in one place only decide.
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
-            variance = self.vote_sigma**2 + (0.0 if spreads is None else np.asarray(spreads, dtype=np.float64))
+            variance = self.vote_sigma**2 + (np.zeros(rates.size) if spreads is None else np.asarray(spreads, dtype=np.float64))
             reliability = rates * (self.vote_sigma**2 / variance)  # each cell's say
             if not self.anchored:
                 self._redraw(reliability, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
                 self.fresh = False
-            then = self.particles - self.lag * self.last_step
-            d2 = ((then[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
-            vote = np.exp(-d2 / (2.0 * variance)) @ reliability / rates.sum()
+            # each sample's likelihood: the cells' Gaussians around their centres, where the sample was lag steps ago
+            g = np.empty((self.n_particles, rates.size))
+            _kernels.vote_exponents(self.particles, self.lag * self.last_step, centres, variance, g)
+            vote = np.exp(g, out=g) @ reliability / rates.sum()
             w = self.weights * (vote + VOTE_FLOOR)
             self.weights = w / w.sum()
             if 1.0 / float(np.sum(self.weights**2)) < 0.5 * self.n_particles:
@@ -159,7 +162,7 @@ class PathIntegrator:
     def _summarise(self) -> None:
         """The estimate is the weighted mean of the heaviest sample's cluster; its weight is the confidence."""
         best = self.particles[int(np.argmax(self.weights))]
-        near = ((self.particles - best) ** 2).sum(axis=1) <= self.anchor_radius**2
+        near = _kernels.within(self.particles, best, self.anchor_radius**2)
         w = self.weights[near]
         self.confidence = float(w.sum())
         self.estimate = (w @ self.particles[near]) / self.confidence

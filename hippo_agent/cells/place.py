@@ -6,9 +6,17 @@ from collections.abc import Callable
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["PlaceCells"]
 
 MATVEC_ROWS = 1024
+
+
+def _tanh_nonzero(x: np.ndarray, nonzero: np.ndarray) -> None:
+    """``x = tanh(x)`` in place, given the indices where ``x`` is not 0 (tanh keeps 0 and -0.0 as
+    they are, and on a mostly silent population this is far less work)."""
+    x[nonzero] = np.tanh(x[nonzero])
 
 
 class PlaceCells:
@@ -85,6 +93,8 @@ class PlaceCells:
         self.W_slots = np.zeros((0, self.n_hd, 0), dtype=np.float32)
         self.s = np.zeros(self.n)
         self.v = np.zeros(self.n)
+        self._nonzero = np.empty(self.n, dtype=np.int64)  # scratch: the cells eq. 4 gives a rate
+        self._nonzero_hd = np.empty(self.n_hd * self.n, dtype=np.int64)  # scratch: the same for eq. 8
         self.trace = np.zeros(self.n)  # Upsilon^p
         self.hd_trace = np.zeros(self.n_hd)  # Upsilon^h
         # path integration (improved model only): the BVC-only response and each cell's centre
@@ -120,12 +130,13 @@ class PlaceCells:
         self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float, extra: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """One eq.-3/4 update given ``W_pb b``, ``sum(b)`` and an optional extra input (path integration)."""
-        drive = Wb - (self.Gamma_pb * b_sum + self.Gamma_pp * v.sum())
-        if extra is not None:
-            drive = drive + extra
-        s = s + self.k * (-s + drive)  # eq. 3 (Euler step, k = dt / tau_p)
-        v = np.tanh(np.maximum(self.psi * s, 0.0))  # eq. 4
-        return s, v
+        # eq. 3 (Euler step, k = dt / tau_p): s += k (-s + W_pb b - Gamma_pb sum(b) - Gamma_pp sum(v) [+ extra])
+        inhibition = self.Gamma_pb * b_sum + self.Gamma_pp * v.sum()
+        s_new, v_new = np.empty(self.n), np.empty(self.n)
+        has_extra = extra is not None
+        count = _kernels.advance(s, Wb, inhibition, extra if has_extra else s, has_extra, self.k, self.psi, s_new, v_new, self._nonzero)
+        _tanh_nonzero(v_new, self._nonzero[:count])  # eq. 4: v = tanh([psi s]+)
+        return s_new, v_new
 
     def step(self, b: np.ndarray, n_steps: int = 1) -> np.ndarray:
         """Advance eqs. 3-4 by ``n_steps`` updates with BVC rates ``b``; return the rates."""
@@ -170,59 +181,42 @@ class PlaceCells:
     def pi_input(self, position: np.ndarray, gain: float, sigma: float, threshold: float) -> np.ndarray:
         """Path-integration drive: ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells
         with a centre ``c_i``, 0 for the others (they stay free to take new places)."""
-        out = np.zeros(self.n)
-        has = self.centre_mass > 0.0
-        if has.any():
-            d2 = ((self.centres[has] - position) ** 2).sum(axis=1)
-            out[has] = gain * (np.exp(-d2 / (2.0 * sigma * sigma)) - threshold)
+        out = np.empty(self.n)
+        _kernels.centre_exponents(self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), 2.0 * sigma * sigma, out)
+        np.exp(out, out=out)
+        _kernels.centre_drive(out, self.centre_mass, gain, threshold, out)
         return out
 
     def learn_centres(self, position: np.ndarray, max_mass: float) -> None:
         """Each active cell's centre moves toward ``position`` by its rate over its accumulated
         rate (a running mean, capped at ``max_mass`` so it can still follow slowly)."""
-        act = np.flatnonzero(self.v > 0.0)
-        if act.size == 0:
-            return
-        mass = np.minimum(self.centre_mass[act] + self.v[act], max_mass)
-        rate = self.v[act] / mass
-        self.centres[act] += rate[:, None] * (position - self.centres[act])
-        self.centre_mass[act] = mass
+        _kernels.learn_centres(self.v, self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), max_mass)
 
     def learn_spread(self, position: np.ndarray, max_mass: float) -> None:
         """Each cell with a centre that the boundary code alone fires here learns how far from its
         centre that happens: a running mean of the squared distance, weighted by the BVC-only rate.
         A cell the boundary code also fires at a distant look-alike place gets a wide spread."""
-        act = np.flatnonzero((self.v_sense > 0.0) & (self.centre_mass > 0.0))
-        if act.size == 0:
-            return
-        rates = self.v_sense[act]
-        mass = np.minimum(self.spread_mass[act] + rates, max_mass)
-        d2 = ((self.centres[act] - position) ** 2).sum(axis=1)
-        self.spread[act] += rates / mass * (d2 - self.spread[act])
-        self.spread_mass[act] = mass
+        _kernels.learn_spread(
+            self.v_sense, self.centres, self.centre_mass, self.spread, self.spread_mass, np.asarray(position, dtype=np.float64), max_mass
+        )
 
     def sensory_vote(self, min_mass: float) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
         """(rates, centres) of the cells active in the BVC-only response whose centre has
         accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
         the edge of what has been mapped, where cells without a centre yet are active), and their
         spreads (:meth:`learn_spread`)."""
-        on = self.v_sense > 0.0
-        act = np.flatnonzero(on & (self.centre_mass >= min_mass))
-        total = float(self.v_sense[on].sum())
-        share = float(self.v_sense[act].sum()) / total if total > 0 else 0.0
-        return self.v_sense[act], self.centres[act], share, self.spread[act]
+        on_rates, act = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass)
+        total = float(on_rates.sum())
+        rates = self.v_sense[act]
+        share = float(rates.sum()) / total if total > 0 else 0.0
+        return rates, self.centres[act], share, self.spread[act]
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
         """Oja's rule (eq. 5) on the rows of the active cells only."""
-        act = np.flatnonzero(self.v > 0.0)
-        if act.size == 0:
-            return
-        va = self.v[act, None]
-        W = self.W_pb[act]
-        W = W + self.eta_pb * va * (b[None, :] - va * W / self.alpha_pb)  # eq. 5
-        W[W < 1e-12] = 0.0  # flush decayed weights before they become slow denormal float32s
-        self.W_pb[act] = W
+        # eq. 5: W_i += eta_pb v_i (b - v_i W_i / alpha_pb), in float64 per active row i; weights decayed
+        # below 1e-12 are flushed to 0 before they become slow denormal float32s
+        _kernels.oja_active_rows(self.W_pb, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
 
     def update_hd_trace(self, h: np.ndarray) -> None:
         """Move the head-direction trace Upsilon^h toward ``h`` (eq. 6c)."""
@@ -230,8 +224,7 @@ class PlaceCells:
 
     def update_trace(self) -> None:
         """Move the place-cell trace Upsilon^p toward the rates (eqs. 6a-b), flooring tiny values."""
-        self.trace += self.trace_rate * (self.v - self.trace)  # eq. 6
-        self.trace[self.trace < self.trace_floor] = 0.0
+        _kernels.update_trace(self.trace, self.v, self.trace_rate, self.trace_floor)  # eq. 6
 
     @property
     def n_slots(self) -> int:
@@ -261,25 +254,12 @@ class PlaceCells:
         where it can be nonzero: post-synaptic ``i`` active (any traced or active ``j``), and
         pre-synaptic ``j`` active (the other ``i``).
         """
-        on = self.v > 0.0
-        act = np.flatnonzero(on)
+        act, idx, rest = _kernels.pp_cells(self.v, self.trace)
         if act.size == 0:
             return
-        traced = self.trace > 0.0
-        idx = np.flatnonzero(on | traced)
-        rest = np.flatnonzero(traced & ~on)
-        s_idx = self._ensure_slots(idx)
-        s_act, s_rest = self.slot[act], self.slot[rest]
+        self._ensure_slots(idx)
         h = (self.eta_pp * self.hd_trace).astype(np.float32)
-        v_a, y_a = self.v[act], self.trace[act]
-        v_x, y_x = self.v[idx], self.trace[idx]
-        # block A: post i in act, pre j in idx; stored [j, k, i]
-        d_a = np.outer(y_x, v_a) - np.outer(v_x, y_a)  # [j, i] = v_i Y_j - v_j Y_i
-        self.W_slots[s_idx[:, None], :, s_act[None, :]] += d_a.astype(np.float32)[:, :, None] * h  # eq. 7
-        if rest.size:
-            # block B: pre j in act, post i in rest (v_i = 0): -v_j Y_i
-            d_b = -np.outer(v_a, self.trace[rest])  # [j, i]
-            self.W_slots[s_act[:, None], :, s_rest[None, :]] += d_b.astype(np.float32)[:, :, None] * h  # eq. 7
+        _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, act, idx, rest, h)  # eq. 7
 
     def set_W_pp(self, pre: int, post: int, weights: np.ndarray) -> None:
         """Set ``W^pp_{k, post, pre}`` for every direction ``k`` (for tests and experiments)."""
@@ -328,17 +308,19 @@ class PlaceCells:
     # ------------------------------------------------------------------ imagination
     def preplay(self, v: np.ndarray | None = None) -> np.ndarray:
         """Imagined rates one step away in each direction (eq. 8), shape ``(n_hd, n)``."""
-        v = self.v if v is None else v
-        rec = np.zeros((self.n_hd, self.n), dtype=np.float32)
+        v = np.asarray(self.v if v is None else v, dtype=np.float64)
         act = np.flatnonzero(v > 0.0)
         act = act[self.slot[act] >= 0]  # cells without a slot drive nothing
+        m = self.n_slots
         if act.size:
-            m = self.n_slots
             rows = self.W_slots[self.slot[act], :, :m].reshape(act.size, -1)
-            rec[:, self.slot_cells] = (v[act].astype(np.float32) @ rows).reshape(self.n_hd, m)  # sum_j W_kij v_j
-        x = rec - v[None, :]
-        np.maximum(x, 0.0, out=x)
-        return np.tanh(x, out=x)  # eq. 8
+            rec = (v[act].astype(np.float32) @ rows).reshape(self.n_hd, m)  # sum_j W_kij v_j, over the slots
+        else:
+            rec = np.zeros((self.n_hd, m), dtype=np.float32)
+        x = np.empty((self.n_hd, self.n))
+        count = _kernels.preplay_argument(rec, self.slot_cells, self.slot, v, x, self._nonzero_hd)
+        _tanh_nonzero(x.reshape(-1), self._nonzero_hd[:count])  # eq. 8
+        return x
 
     def replay_weights(self, rows: np.ndarray | None = None) -> np.ndarray:
         """``M[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), what replay spreads along
@@ -346,8 +328,5 @@ class PlaceCells:
         (replay asks only for the rows of cells it has reached); ``None`` = all."""
         rows = np.arange(self.n) if rows is None else np.asarray(rows, dtype=np.int64)
         out = np.zeros((rows.size, self.n), dtype=np.float32)
-        has = self.slot[rows] >= 0
-        if has.any():
-            m = self.n_slots
-            out[np.ix_(has, self.slot_cells)] = self.W_slots[self.slot[rows[has]], :, :m].max(axis=1)
+        _kernels.max_over_directions(self.W_slots, self.slot, self.slot_cells, rows, out)
         return out

@@ -6,6 +6,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
+
 __all__ = ["RewardCells", "replay"]
 
 
@@ -29,20 +31,32 @@ def replay(
     n = v_bar.size
     if callable(W_max):
         rows_of = W_max
-        M = np.zeros((n, n), dtype=np.float32)
-        have = np.zeros(n, dtype=bool)
+        # the rows computed so far, in the order they were asked for (not an (n, n) array: at 10,000
+        # cells that would be 400 MB, made resident in huge pages by a few scattered rows)
+        store = np.empty((0, n), dtype=np.float32)
+        used = 0
+        where = np.full(n, -1, dtype=np.int64)  # cell -> its row in the store
     dW = np.zeros_like(v_bar)
+    active = rows = None
     for t_r in range(iterations):
         dW += v_bar / v_bar.max() * np.exp(-t_r / tau_r)  # Algorithm 1, line 3
-        active = np.flatnonzero(v_bar > 0.0)
-        if callable(W_max):
-            need = active[~have[active]]
-            if need.size:
-                M[need] = rows_of(need)
-                have[need] = True
-            rows = M[active]
-        else:
-            rows = W_max[active]
+        was_active, active = active, np.flatnonzero(v_bar > 0.0)
+        if was_active is None or not np.array_equal(active, was_active):  # else the same rows again
+            rows = None  # (freed before its successor is built)
+            if callable(W_max):
+                need = active[where[active] < 0]
+                if need.size:
+                    if used + need.size > store.shape[0]:  # grow by doubling
+                        grown = np.empty((max(used + need.size, 2 * store.shape[0]), n), dtype=np.float32)
+                        grown[:used] = store[:used]
+                        store = grown
+                    store[used : used + need.size] = rows_of(need)
+                    where[need] = np.arange(used, used + need.size)
+                    used += need.size
+                rows = _kernels.rows_as_float64(store, where[active])
+            else:
+                rows = W_max[active].astype(np.float64)
+            # (the product below is in float64: the rows are cast once, not on every iteration)
         spread = v_bar[active] @ rows  # sum_l (max_k W^pp_{kjl}) v_bar_l
         v_bar = np.tanh(np.maximum(v_bar + spread, 0.0))  # Algorithm 1, line 4
         if not np.any(v_bar > 0.0):
@@ -112,11 +126,9 @@ class RewardCells:
             return float(v @ W) / total if total > 0.0 else 0.0  # eq. 9
         total = v.sum(axis=1)
         out = v @ W
-        nz = total > 0.0
-        out[nz] /= total[nz]  # eq. 9
-        out[~nz] = 0.0
+        _kernels.divide_where_positive(out, total)  # eq. 9
         return out
 
     def depress(self, v: np.ndarray, lambda_: float) -> None:
         """Depress the effective weights of the active cells (eq. 11)."""
-        self.W_eff -= lambda_ * self.W_eff * v  # eq. 11
+        _kernels.depress(self.W_eff, np.asarray(v, dtype=np.float64), float(lambda_))  # eq. 11: W_eff -= lambda W_eff v
