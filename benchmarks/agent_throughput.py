@@ -136,6 +136,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
     agent.reset(observation, info)
     run1 = rollout(env, agent, observation)  # run 1: explore until the goal, which triggers the replay
     before_timing = copy.deepcopy(agent.reward)  # replaying again adds to the reward weights: put them back after
+    replay_from_cells = int(np.count_nonzero(agent.place.v > 0))  # replay spreads from the cells active at the goal
     replay_ms = []
     for _ in range(args.repeats):
         began = time.perf_counter()
@@ -167,6 +168,8 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
         **({} if replay_split is None else {"replay_split_ms": replay_split}),
         "dry_run_steps_per_second": round(args.dry_run_steps / dry_run_seconds) if args.dry_run_steps else None,
         "run1_steps": run1.steps,
+        "run1_found_goal": bool(run1.terminated),
+        "replay_from_cells": replay_from_cells,
         "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
         "W_pb_megabytes": None if w_pb is None else round(w_pb.nbytes / 2**20, 1),
         "max_rss_megabytes": round(peak_resident_megabytes() * 1e6 / 2**20, 1),  # MiB, as before
@@ -296,7 +299,8 @@ def scaling_table(args: Args, fresh_process: bool = True) -> dict[str, Any]:
         print(
             f"  {n_place:6d} place cells: exploiting {row['exploiting_steps_per_second']:7,} steps/s, exploring "
             f"{row['exploring_steps_per_second']:7,}; replay {row['replay_ms']:8.1f} ms; peak RSS {row['peak_rss_mb']:7.0f} MB; "
-            f"largest part {_largest(split)}",
+            f"largest part {_largest(split)}; exploited on {exploit_share(row):.0%} of the exploiting walk"
+            + ("" if replays(row) else "; nothing to replay (run 1 found no goal, or no place cell was active there)"),
             flush=True,
         )
     return {"rows": rows, "growth": growth(rows), "targets": targets(rows, args)}
@@ -310,19 +314,44 @@ def growth(rows: list[dict[str, Any]]) -> dict[str, Any]:
         mode: cost_growth(n, [1.0 / r[f"{mode}_steps_per_second"] for r in rows], [r[f"{mode}_split_us_per_step"] for r in rows])
         for mode in ("exploiting", "exploring")
     }
-    if all("replay_split_ms" in r for r in rows):
-        out["replay"] = cost_growth(n, [r["replay_ms"] for r in rows], [r["replay_split_ms"] for r in rows])
-    for key in ("replay_ms", "peak_rss_above_start_mb", "W_pp_megabytes"):
-        slope = log_log_slope(n, [r[key] for r in rows])  # over all sizes
+    replayed = [r for r in rows if replays(r)]
+    if len(replayed) >= 2 and all("replay_split_ms" in r for r in replayed):
+        out["replay"] = cost_growth(
+            [r["n_place"] for r in replayed], [r["replay_ms"] for r in replayed], [r["replay_split_ms"] for r in replayed]
+        )
+    for key, among in (("replay_ms", replayed), ("peak_rss_above_start_mb", rows), ("W_pp_megabytes", rows)):
+        slope = log_log_slope([r["n_place"] for r in among], [r[key] for r in among])  # over all sizes
         out[f"{key}_slope"] = None if slope is None else round(slope, 3)
     return out
 
 
+# An "exploiting" walk in which the agent mostly fell back to exploring does not measure exploiting.
+MIN_EXPLOIT_SHARE = 0.5
+
+
+def exploit_share(row: dict[str, Any]) -> float:
+    """The share of the exploiting walk's steps on which the agent exploited (preplay chose the move)."""
+    decisions = row["exploit_decisions"]
+    return decisions["exploit"] / max(decisions["exploit"] + decisions["explore"], 1)
+
+
+def replays(row: dict[str, Any]) -> bool:
+    """Whether the row's replay did anything: run 1 found the goal and some place cell was active there."""
+    return row.get("run1_found_goal", True) and row.get("replay_from_cells", 1) > 0
+
+
 def targets(rows: list[dict[str, Any]], args: Args) -> dict[str, Any]:
-    """The issue's targets at ``args.target_cells`` place cells, against that row."""
+    """The issue's targets at ``args.target_cells`` place cells, against that row. They are not
+    measured when run 1 never found the goal (no replay to time) or the agent hardly exploited."""
     row = next((r for r in rows if r["n_place"] == args.target_cells), None)
     if row is None:
         return {"n_place": args.target_cells, "measured": False}
+    if not replays(row) or exploit_share(row) < MIN_EXPLOIT_SHARE:
+        why = (
+            f"run 1 found the goal: {row.get('run1_found_goal')}, with {row.get('replay_from_cells')} place cells active there to replay "
+            f"from; the exploiting walk exploited on {exploit_share(row):.0%} of its steps"
+        )
+        return {"n_place": args.target_cells, "measured": False, "why": why}
     slowest = min(row["exploiting_steps_per_second"], row["exploring_steps_per_second"])
     return {
         "n_place": args.target_cells,
