@@ -70,27 +70,30 @@ class DistanceField:
     """Geodesic distances to a goal over the free cells of a grid (8-connected Dijkstra).
 
     The grid's cells are squares of side ``spacing``; cell ``(row, col)`` has its lower-left
-    corner at ``corner + spacing * (col, row)``. ``distances[row, col]`` is ``inf`` at cells the
-    robot cannot occupy or reach.
+    corner at ``corner + spacing * (col, row)`` and its centre at ``(xs[col], ys[row])``.
+    ``distances[row, col]`` is ``inf`` at cells the robot cannot occupy or reach.
     """
 
     corner: np.ndarray
     spacing: float
+    xs: np.ndarray
+    ys: np.ndarray
     distances: np.ndarray
 
     @classmethod
-    def from_grid(cls, free: np.ndarray, corner: np.ndarray, spacing: float, goal: np.ndarray) -> DistanceField:
-        """Dijkstra over the ``free`` cells from the cell holding ``goal`` (or, if it is not free, the free cell nearest it)."""
-        field = cls(np.asarray(corner, float), spacing, np.full(free.shape, np.inf))
+    def from_grid(
+        cls, xs: np.ndarray, ys: np.ndarray, free: np.ndarray, corner: np.ndarray, spacing: float, goal: np.ndarray
+    ) -> DistanceField:
+        """Dijkstra over the ``free`` cells from the free cell whose centre is nearest ``goal``
+        (of equally near ones, the first in row-major order: a goal on a cell border is not ambiguous)."""
+        field = cls(np.asarray(corner, float), spacing, xs, ys, np.full(free.shape, np.inf))
         if not free.any():
             return field
         rows, cols = free.shape
-        start_row, start_col = (int(i[0]) for i in field.cell(goal))
-        if not free[start_row, start_col]:
-            free_rows, free_cols = np.nonzero(free)
-            centres = field.corner + spacing * (np.column_stack([free_cols, free_rows]) + 0.5)
-            nearest = np.argmin(np.hypot(*(centres - np.asarray(goal, float)).T))
-            start_row, start_col = int(free_rows[nearest]), int(free_cols[nearest])
+        gx, gy = np.meshgrid(xs, ys)
+        flat = np.flatnonzero(free)
+        centres = np.column_stack([gx.ravel(), gy.ravel()])[flat]
+        start_row, start_col = divmod(int(flat[np.argmin(np.linalg.norm(centres - np.asarray(goal, float), axis=1))]), cols)
         distances = field.distances
         distances[start_row, start_col] = 0.0
         queue = [(0.0, start_row, start_col)]

@@ -250,8 +250,8 @@ class MazeSpec:
 
     def distance_field(self, goal: np.ndarray, radius: float, resolution: float) -> DistanceField:
         """Geodesic distances to ``goal`` for a disc of ``radius`` over the :meth:`free_grid` at ``resolution``."""
-        _, _, free = self.free_grid(radius, resolution)
-        return DistanceField.from_grid(free, -np.asarray(self.half_extent, float), resolution, np.asarray(goal, float))
+        xs, ys, free = self.free_grid(radius, resolution)
+        return DistanceField.from_grid(xs, ys, free, -np.asarray(self.half_extent, float), resolution, np.asarray(goal, float))
 
     def _free_components(self, radius: float, resolution: float) -> tuple[np.ndarray, int]:
         _, _, free = self.free_grid(radius, resolution)

@@ -15,7 +15,7 @@ WALL = MazeSpec.from_dict({"name": "wall", "size": [6.0, 6.0], "obstacles": [[[-
 def test_geodesic_goes_around_the_wall():
     d = path_distances(WALL, np.array([[-2.0, -1.0]]), np.array([[-2.0, 1.0], [-2.0, -2.0]]))[0]
     assert d[0] > 2 * np.hypot(4.2, 1.0) - 0.3  # around the wall's free end at x = 2
-    assert abs(d[1] - 1.0) < 0.05
+    assert abs(d[1] - 1.0) < 0.1  # within a cell of the 0.1 m grid (both points lie on cell corners)
 
 
 def test_twins_and_similarity_across_walls():

@@ -92,3 +92,15 @@ def test_one_draw_maze_serves_the_env_and_the_agent_figures():
     assert axes[1].get_xlim() == (-5.0, 5.0)
     plot_trajectories([np.zeros((3, 2))], axes[1], size=(4.0, 2.0))  # a bare floor of a size
     plt.close(fig)
+
+
+def test_a_goal_on_a_cell_border_starts_the_field_at_one_nearest_free_cell():
+    spec = MazeSpec.load("maze2")
+    goal = np.array([3.2, 3.2])  # on the corner of four 0.1 m cells
+    field = spec.distance_field(goal, ROBOT_RADIUS, 0.1)
+    (row, col), *others = np.argwhere(field.distances == 0.0)
+    assert not others
+    _, _, free = spec.free_grid(ROBOT_RADIUS, 0.1)
+    gx, gy = np.meshgrid(field.xs, field.ys)
+    nearest = np.hypot(gx - goal[0], gy - goal[1])[free].min()
+    assert np.hypot(field.xs[col] - goal[0], field.ys[row] - goal[1]) == nearest
