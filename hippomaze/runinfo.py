@@ -24,6 +24,20 @@ def cpu_model() -> str:
     return platform.processor()
 
 
+# The vector extensions NumPy picks its kernels by at run time: exp, tanh and BLAS round differently
+# with and without them, so two machines with the same "model name" can differ in the last bits.
+_VECTOR_FLAGS = ("avx2", "fma", "avx512f")
+
+
+def cpu_vector_flags() -> list[str] | None:
+    """Which of :data:`_VECTOR_FLAGS` the CPU reports (None where ``/proc/cpuinfo`` is missing)."""
+    cpuinfo = Path("/proc/cpuinfo")
+    if not cpuinfo.exists():
+        return None
+    flags = next((line.split(":", 1)[1].split() for line in cpuinfo.read_text().splitlines() if line.startswith("flags")), [])
+    return [f for f in _VECTOR_FLAGS if f in flags]
+
+
 def load_average() -> list[float] | None:
     return [round(x, 2) for x in os.getloadavg()] if hasattr(os, "getloadavg") else None
 
@@ -34,6 +48,7 @@ def machine_info(**versions: str) -> dict[str, Any]:
         "cpu_count": os.cpu_count(),
         "cpus_usable": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
         "cpu": cpu_model(),
+        "cpu_vector_flags": cpu_vector_flags(),
         "platform": platform.platform(),
         "python": platform.python_version(),
         **versions,
