@@ -405,6 +405,11 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
     ax = axes[0, 0]
     for mode, marker in (("exploiting", "o"), ("exploring", "s")):
         ax.plot(n, [r[f"{mode}_steps_per_second"] for r in rows], marker=marker, label=mode)
+    idle = [i for i, r in enumerate(rows) if exploit_share(r) < MIN_EXPLOIT_SHARE]
+    if idle:
+        ax.plot(
+            n[idle], [rows[i]["exploiting_steps_per_second"] for i in idle], "rx", ms=10, label="hardly exploited: not an exploiting figure"
+        )
     anchor = rows[-1]["exploiting_steps_per_second"]
     ax.plot(n, anchor * n[-1] / n, "k:", label="cost proportional to n (slope -1)")
     ax.axhline(args.target, color="r", ls="--", lw=1, label=f"target {args.target:,.0f} steps/s")
@@ -435,13 +440,18 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
     ax.legend(fontsize=8)
 
     ax = axes[1, 1]
-    ax.plot(n, [r["replay_ms"] for r in rows], "o-", label="one replay")
+    replayed = [r for r in rows if replays(r)]  # a row with nothing to replay has no replay to show
+    n_replayed = np.array([r["n_place"] for r in replayed], dtype=float)
+    ax.plot(n_replayed, [r["replay_ms"] for r in replayed], "o-", label="one replay")
     for term in (t for t in rows[0].get("replay_split_ms", {}) if t not in ("total", "methods_not_found")):
-        values = np.array([r["replay_split_ms"].get(term, 0.0) for r in rows], dtype=float)
-        if values.max() > 0.0:
-            ax.plot(n, np.where(values > 0.0, values, np.nan), "s--", lw=0.8, label=f"{term} (instrumented replay)")
-    ax.plot(n, rows[-1]["replay_ms"] * n / n[-1], "k:", label="proportional to n")
-    ax.plot(n, rows[-1]["replay_ms"] * (n / n[-1]) ** 2, "k-.", lw=0.8, label="proportional to n^2")
+        values = np.array([r["replay_split_ms"].get(term, 0.0) for r in replayed], dtype=float)
+        if values.size and values.max() > 0.0:
+            label = "spreading (the rest)" if term == "other" else term
+            ax.plot(n_replayed, np.where(values > 0.0, values, np.nan), "s--", lw=0.8, label=f"{label} (instrumented replay)")
+    if replayed:
+        last = replayed[-1]["replay_ms"]
+        ax.plot(n_replayed, last * n_replayed / n_replayed[-1], "k:", label="proportional to n")
+        ax.plot(n_replayed, last * (n_replayed / n_replayed[-1]) ** 2, "k-.", lw=0.8, label="proportional to n^2")
     ax.axhline(args.target_replay_ms, color="r", ls="--", lw=1, label=f"target {args.target_replay_ms:g} ms")
     ax.axvline(args.target_cells, color="grey", lw=0.8)
     ax.set(xscale="log", yscale="log", xlabel="place cells", ylabel="ms", title="replay after the goal is found")
