@@ -331,7 +331,7 @@ class HippocampalAgent:
     def learn_reward(self) -> bool:
         """Backward replay (Algorithm 1) from the current place rates into the current goal's
         reward cell. Returns ``False`` if no place cell was active (nothing to learn)."""
-        learnt = self.reward.learn(self.place.v, self.place.replay_weights, self.config.replay_iterations, self.config.tau_r)
+        learnt = self.reward.learn(self.place.v, self.place.replay_links, self.config.replay_iterations, self.config.tau_r)
         if learnt:
             self.goal_rewarded = True
             self.episode_stats["replays"] += 1
@@ -346,8 +346,7 @@ class HippocampalAgent:
         v = self.place.v
         if self.reward.value(v) <= c.xi_here:
             return None
-        v_bar = self.place.preplay(v)  # eq. 8, (n_hd, n)
-        values = self.reward.value(v_bar)  # eq. 9
+        values = self.reward.values_of(self.place.imagine(v), self.place.slot_cells)  # eqs. 8-9
         self.last_values = values
         if values.max() < c.xi:
             return None

@@ -291,6 +291,6 @@ def test_replay_with_lazy_rows_equals_dense_matrix():
     v = np.zeros(40)
     v[[3, 4]] = [0.5, 0.2]
     dense = replay(v, pc.replay_weights(), 20, 2.0)
-    lazy = replay(v, pc.replay_weights, 20, 2.0)
+    lazy = replay(v, pc.replay_links, 20, 2.0)
     np.testing.assert_array_equal(dense, lazy)
     np.testing.assert_array_equal(pc.replay_weights(np.array([3, 4])), pc.replay_weights()[[3, 4]])

@@ -140,7 +140,7 @@ def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
         "exploiting_steps_per_second": 3000,
         "exploring_steps_per_second": 2500,
         "exploit_decisions": {"explore": 10, "exploit": 90, "bumps": 0, "replays": 0},
-        "run1_found_goal": True,
+        "found_goal": True,
         "peak_rss_mb": 1200.0,
         "replay_ms": 50.0,
     }
@@ -151,6 +151,6 @@ def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
     explored = {**row, "exploit_decisions": {"explore": 90, "exploit": 10, "bumps": 0, "replays": 0}}
     assert not agent_throughput.targets([explored], args)["measured"]
     assert "10%" in agent_throughput.targets([explored], args)["why"]
-    assert not agent_throughput.targets([{**row, "run1_found_goal": False}], args)["measured"]
+    assert not agent_throughput.targets([{**row, "found_goal": False}], args)["measured"]
     assert not agent_throughput.targets([{**row, "replay_from_cells": 0}], args)["measured"]
     assert agent_throughput.targets([row], agent_throughput.Args(target_cells=7)) == {"n_place": 7, "measured": False}

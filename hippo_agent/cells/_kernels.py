@@ -1,10 +1,12 @@
 """Compiled loops (numba) for the cells' per-step updates.
 
-Each kernel does, element by element and in the same order, exactly the arithmetic of the NumPy
-expression it replaces (the equations stay written out in the calling method's comments), so the
-results are identical to the last bit: no reordered sums, no fused multiply-adds. Transcendentals
-(``exp``, ``tanh``) and BLAS products stay in NumPy, whose vectorised versions round differently
-from numba's. ``error_model="numpy"``: a division by 0 gives inf or nan, as in NumPy, not an exception.
+Each kernel does the arithmetic of the equation written out in its docstring and in the calling
+method's comments, touching only the cells that matter (active, traced, holding a slot, firing
+BVCs), in plain IEEE arithmetic: no fused multiply-adds, no fast-math reordering, so the same
+inputs give the same bits on any machine running the same numba build. ``exp`` and ``tanh`` are
+libm's (scalar), called only where the result is needed; NumPy's vectorised ``exp`` is kept only
+for the BVCs' thousands of radial Gaussians, where it is 4x faster. ``error_model="numpy"``: a
+division by 0 gives inf or nan, as in NumPy, not an exception.
 """
 
 from __future__ import annotations
@@ -22,28 +24,57 @@ def _maximum0(x):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
-def oja_active_rows(W_pb, v, b, eta, alpha):  # pragma: no cover - compiled
-    """Eq. 5 on the rows of the float32 ``W_pb`` whose cell is active (``v_i > 0``; for the others
-    the update is exactly 0), in float64, flushing results below 1e-12 to 0."""
-    for row in range(v.size):
-        va = v[row]
+def _tanh_positive(x):  # pragma: no cover - compiled
+    """``x = tanh(x)`` where ``x > 0`` (a separate pass: inside a loop doing more, the compiler
+    evaluates tanh on every element; on a mostly silent population that is 5x the work)."""
+    for i in range(x.size):
+        if x[i] > 0.0:
+            x[i] = math.tanh(x[i])
+
+
+@njit(cache=True, error_model="numpy")
+def oja_active_rows(W_bp, v, b, eta, alpha):  # pragma: no cover - compiled
+    """Eq. 5 on the weights onto the active cells (``v_i > 0``; for the others the update is
+    exactly 0), ``W_bp[c, i]`` float32 BVC-first, in float64, flushing results below 1e-12 to 0."""
+    for i in range(v.size):
+        va = v[i]
         if not va > 0.0:
             continue
         eta_va = eta * va
         for c in range(b.size):
-            w = np.float64(W_pb[row, c])
+            w = np.float64(W_bp[c, i])
             x = w + eta_va * (b[c] - va * w / alpha)
             if x < 1e-12:
                 x = 0.0
-            W_pb[row, c] = np.float32(x)
+            W_bp[c, i] = np.float32(x)
 
 
 @njit(cache=True, error_model="numpy")
-def pp_cells(v, trace):  # pragma: no cover - compiled
-    """The cells eq. 7 touches: active (``v > 0``), active or traced, and traced but silent."""
+def bvc_drive(W_bp, b, out):  # pragma: no cover - compiled
+    """``out = W_pb b`` from the BVC-first float32 ``W_bp``, summed in float32 (as a BLAS float32
+    product would) over the rows of the BVCs with ``b_c > 0`` only; returns ``sum(b)``."""
+    acc = np.zeros(out.size, np.float32)
+    total = 0.0
+    for c in range(b.size):
+        total += b[c]
+        if b[c] > 0.0:
+            bc = np.float32(b[c])
+            row = W_bp[c]
+            for i in range(acc.size):
+                acc[i] += row[i] * bc
+    for i in range(out.size):
+        out[i] = acc[i]
+    return total
+
+
+@njit(cache=True, error_model="numpy")
+def pp_cells(v, trace, slot):  # pragma: no cover - compiled
+    """The cells eq. 7 touches: active (``v > 0``), active or traced, and traced but silent; and
+    whether all of them already hold a slot."""
     n = v.size
     act, idx, rest = np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.int64)
     n_act = n_idx = n_rest = 0
+    all_slotted = True
     for i in range(n):
         on, traced = v[i] > 0.0, trace[i] > 0.0
         if on:
@@ -52,17 +83,22 @@ def pp_cells(v, trace):  # pragma: no cover - compiled
         if on or traced:
             idx[n_idx] = i
             n_idx += 1
+            if slot[i] < 0:
+                all_slotted = False
         if traced and not on:
             rest[n_rest] = i
             n_rest += 1
-    return act[:n_act], idx[:n_idx], rest[:n_rest]
+    return act[:n_act], idx[:n_idx], rest[:n_rest], all_slotted
 
 
 @njit(cache=True, error_model="numpy")
-def pp_update(W_slots, slot, v, trace, act, idx, rest, h):  # pragma: no cover - compiled
-    """Eq. 7 on its two nonzero blocks, ``W[slot_j, k, slot_i] += float32(v_i Y_j - v_j Y_i) * h_k``:
-    post ``i`` active and pre ``j`` active or traced; pre ``j`` active and post ``i`` silent but
-    traced (there ``v_i = 0``: ``float32(-(v_j Y_i)) * h_k``)."""
+def pp_update(W_slots, slot, v, trace, act, idx, rest, eta, hd_trace):  # pragma: no cover - compiled
+    """Eq. 7 on its two nonzero blocks, ``W[slot_j, k, slot_i] += float32(v_i Y_j - v_j Y_i) * h_k``
+    with ``h_k = float32(eta Upsilon^h_k)``: post ``i`` active and pre ``j`` active or traced; pre
+    ``j`` active and post ``i`` silent but traced (there ``v_i = 0``: ``float32(-(v_j Y_i)) * h_k``)."""
+    h = np.empty(hd_trace.size, np.float32)
+    for k in range(h.size):
+        h[k] = np.float32(eta * hd_trace[k])
     for j in idx:
         sj = slot[j]
         for i in act:
@@ -85,17 +121,6 @@ def update_trace(trace, v, rate, floor):  # pragma: no cover - compiled
     for i in range(v.size):
         y = trace[i] + rate * (v[i] - trace[i])
         trace[i] = 0.0 if y < floor else y
-
-
-@njit(cache=True, error_model="numpy")
-def within(points, centre, radius_sq):  # pragma: no cover - compiled
-    """Which rows of ``points`` (n, 2) lie within ``sqrt(radius_sq)`` of ``centre``."""
-    out = np.empty(points.shape[0], np.bool_)
-    for p in range(points.shape[0]):
-        dx = points[p, 0] - centre[0]
-        dy = points[p, 1] - centre[1]
-        out[p] = dx * dx + dy * dy <= radius_sq
-    return out
 
 
 @njit(cache=True, error_model="numpy")
@@ -129,42 +154,30 @@ def bvc_sum(w, g, coef, tiny, out):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
-def advance(s, Wb, inhibition, extra, has_extra, k, psi, s_out, x_out, nonzero):  # pragma: no cover - compiled
-    """Eq. 3's Euler step into ``s_out`` (drive ``Wb - inhibition``, plus ``extra`` if ``has_extra``)
-    and eq. 4's rectified argument ``[psi s]+`` into ``x_out`` (the caller takes its tanh); the
-    indices where that argument is not 0 go to ``nonzero``, their count is returned."""
-    count = 0
+def advance(s, v, Wb, b_inhibition, Gamma_pp, extra, has_extra, k, psi, s_out, v_out):  # pragma: no cover - compiled
+    """Eq. 3's Euler step into ``s_out``, with the drive ``Wb - b_inhibition - Gamma_pp sum(v)``
+    (plus ``extra`` if ``has_extra``), and eq. 4's rates ``tanh([psi s]+)`` into ``v_out``."""
+    inhibition = b_inhibition + Gamma_pp * np.sum(v)
     for i in range(s.size):
-        drive = np.float64(Wb[i]) - inhibition
+        drive = Wb[i] - inhibition
         if has_extra:
             drive = drive + extra[i]
         si = s[i] + k * (-s[i] + drive)
         s_out[i] = si
-        x = _maximum0(psi * si)
-        x_out[i] = x
-        if x != 0.0:
-            nonzero[count] = i
-            count += 1
-    return count
+        v_out[i] = _maximum0(psi * si)
+    _tanh_positive(v_out)
 
 
 @njit(cache=True, error_model="numpy")
-def centre_exponents(centres, centre_mass, position, two_var, out):  # pragma: no cover - compiled
-    """``-|p - c_i|^2 / two_var`` for the cells with a centre, 0 for the others."""
+def centre_drive(centres, centre_mass, position, two_var, gain, threshold, out):  # pragma: no cover - compiled
+    """``gain * (exp(-|p - c_i|^2 / two_var) - threshold)`` for the cells with a centre, 0 for the others."""
     for i in range(centre_mass.size):
         if centre_mass[i] > 0.0:
             dx = centres[i, 0] - position[0]
             dy = centres[i, 1] - position[1]
-            out[i] = -(dx * dx + dy * dy) / two_var
+            out[i] = gain * (math.exp(-(dx * dx + dy * dy) / two_var) - threshold)
         else:
             out[i] = 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def centre_drive(g, centre_mass, gain, threshold, out):  # pragma: no cover - compiled
-    """``gain * (g_i - threshold)`` for the cells with a centre, 0 for the others."""
-    for i in range(centre_mass.size):
-        out[i] = gain * (g[i] - threshold) if centre_mass[i] > 0.0 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -194,43 +207,102 @@ def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, m
 
 
 @njit(cache=True, error_model="numpy")
-def vote_exponents(particles, offset, centres, variance, out):  # pragma: no cover - compiled
-    """``-|(x_p - offset) - c_a|^2 / (2 variance_a)`` for every sample ``p`` and voting cell ``a``."""
+def shift(particles, step, spread, noise):  # pragma: no cover - compiled
+    """Move every sample by ``step`` plus ``spread`` times its standard normal ``noise`` (none if ``spread`` is 0)."""
     for p in range(particles.shape[0]):
-        x = particles[p, 0] - offset[0]
-        y = particles[p, 1] - offset[1]
-        for a in range(centres.shape[0]):
-            dx = x - centres[a, 0]
-            dy = y - centres[a, 1]
-            out[p, a] = -(dx * dx + dy * dy) / (2.0 * variance[a])
+        for d in range(2):
+            particles[p, d] += step[d]
+            if spread > 0.0:
+                particles[p, d] += spread * noise[p, d]
 
 
 @njit(cache=True, error_model="numpy")
-def preplay_argument(rec, slot_cells, slot, v, out, nonzero):  # pragma: no cover - compiled
-    """``out[k, i] = [rec[k, slot_i] - v_i]+``, the float32 recurrent drive ``rec`` over the slots
-    (``slot_cells`` their cells, ``slot`` each cell's slot or -1) taken as 0 for a cell without one:
-    eq. 8's argument. The flat indices where it is not 0 go to ``nonzero`` (in no particular
-    order), their count is returned."""
-    n_hd, n = out.shape
-    count = 0
-    for i in range(n):  # no recurrent drive: the same in every direction
-        out[0, i] = _maximum0(0.0 - v[i])
-    for k in range(1, n_hd):
-        out[k, :] = out[0, :]
-    for i in range(n):
-        if slot[i] < 0 and out[0, i] != 0.0:
+def reweigh(particles, lag, last_step, rates, centres, spreads, vote_var, floor, weights):  # pragma: no cover - compiled
+    """Multiply each sample's weight by its vote plus ``floor`` and normalise; return the
+    effective sample size ``1 / sum w^2``. The vote is the normalised sum over the voting cells
+    ``a`` of ``rates_a vote_var / var_a exp(-|(x_p - lag last_step) - c_a|^2 / (2 var_a))``, ``var_a =
+    vote_var + spreads_a``: a 2-D Gaussian around the cell's centre, scaled by the cell's say,
+    where the sample was ``lag`` steps ago."""
+    offset_x, offset_y = lag * last_step[0], lag * last_step[1]
+    n_cells = rates.size
+    reliability = np.empty(n_cells)
+    two_var = np.empty(n_cells)
+    total_rate = 0.0
+    for a in range(n_cells):
+        var = vote_var + spreads[a]
+        reliability[a] = rates[a] * (vote_var / var)
+        two_var[a] = 2.0 * var
+        total_rate += rates[a]
+    wsum = 0.0
+    for p in range(particles.shape[0]):
+        x = particles[p, 0] - offset_x
+        y = particles[p, 1] - offset_y
+        vote = 0.0
+        for a in range(n_cells):
+            dx = x - centres[a, 0]
+            dy = y - centres[a, 1]
+            vote += math.exp(-(dx * dx + dy * dy) / two_var[a]) * reliability[a]
+        w = weights[p] * (vote / total_rate + floor)
+        weights[p] = w
+        wsum += w
+    sq = 0.0
+    for p in range(weights.size):
+        weights[p] /= wsum
+        sq += weights[p] * weights[p]
+    return 1.0 / sq
+
+
+@njit(cache=True, error_model="numpy")
+def cluster_mean(particles, weights, radius_sq):  # pragma: no cover - compiled
+    """The weighted mean (x, y) of the samples within ``sqrt(radius_sq)`` of the heaviest one, and their weight."""
+    best = 0
+    for p in range(1, weights.size):
+        if weights[p] > weights[best]:
+            best = p
+    bx, by = particles[best, 0], particles[best, 1]
+    mass = mx = my = 0.0
+    for p in range(weights.size):
+        dx = particles[p, 0] - bx
+        dy = particles[p, 1] - by
+        if dx * dx + dy * dy <= radius_sq:
+            mass += weights[p]
+            mx += weights[p] * particles[p, 0]
+            my += weights[p] * particles[p, 1]
+    return mx / mass, my / mass, mass
+
+
+@njit(cache=True, error_model="numpy")
+def imagined_rates(W_slots, slot, slot_cells, v, out):  # pragma: no cover - compiled
+    """Eq. 8 for the cells holding slots, ``out[k, c] = tanh([sum_j W_slots[slot_j, k, c] v_j - v_i]+)``
+    for the cell ``i = slot_cells[c]``, the sum in float32 over the active cells ``j`` with a slot.
+    (Every other cell's imagined rate is 0: it has no recurrent drive and ``[0 - v_i]+ = 0``.)"""
+    n_hd, m = out.shape
+    rec = np.zeros((n_hd, m), np.float32)
+    for j in range(v.size):
+        if v[j] > 0.0 and slot[j] >= 0:
+            vj = np.float32(v[j])
+            sj = slot[j]
             for k in range(n_hd):
-                nonzero[count] = k * n + i
-                count += 1
+                for c in range(m):
+                    rec[k, c] += W_slots[sj, k, c] * vj
     for k in range(n_hd):
-        for c in range(slot_cells.size):
-            i = slot_cells[c]
-            x = _maximum0(np.float64(rec[k, c]) - v[i])
-            out[k, i] = x
-            if x != 0.0:
-                nonzero[count] = k * n + i
-                count += 1
-    return count
+        for c in range(m):
+            out[k, c] = _maximum0(np.float64(rec[k, c]) - v[slot_cells[c]])
+    _tanh_positive(out.reshape(-1))
+
+
+@njit(cache=True, error_model="numpy")
+def values_of(rates, cells, W, out):  # pragma: no cover - compiled
+    """Eq. 9 for each row of ``rates`` (the rates of ``cells``, every other cell silent):
+    ``sum_c W[cells_c] rates_c / sum_c rates_c``, 0 where that sum is 0."""
+    for k in range(rates.shape[0]):
+        num = total = 0.0
+        for c in range(cells.size):
+            r = rates[k, c]
+            if r != 0.0:
+                num += W[cells[c]] * r
+                total += r
+        out[k] = num / total if total > 0.0 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -257,49 +329,66 @@ def depress(W, v, lambda_):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
-def voting_cells(v_sense, centre_mass, min_mass):  # pragma: no cover - compiled
-    """The BVC-only rates of the active cells (``v_sense > 0``), and the indices of those among
-    them whose centre has at least ``min_mass``."""
-    n_on = n_act = 0
+def voting_cells(v_sense, centre_mass, min_mass, centres, spread):  # pragma: no cover - compiled
+    """Of the active cells (``v_sense > 0``), those whose centre has at least ``min_mass``: their
+    BVC-only rates, centres and spreads, and their share of all the active cells' rate."""
+    n_act = 0
+    total = 0.0
     for i in range(v_sense.size):
         if v_sense[i] > 0.0:
-            n_on += 1
+            total += v_sense[i]
             if centre_mass[i] >= min_mass:
                 n_act += 1
-    on_rates, act = np.empty(n_on), np.empty(n_act, np.int64)
-    n_on = n_act = 0
+    rates, where, spreads = np.empty(n_act), np.empty((n_act, 2)), np.empty(n_act)
+    a = 0
+    voted = 0.0
     for i in range(v_sense.size):
-        if v_sense[i] > 0.0:
-            on_rates[n_on] = v_sense[i]
-            n_on += 1
-            if centre_mass[i] >= min_mass:
-                act[n_act] = i
-                n_act += 1
-    return on_rates, act
+        if v_sense[i] > 0.0 and centre_mass[i] >= min_mass:
+            rates[a] = v_sense[i]
+            where[a, 0] = centres[i, 0]
+            where[a, 1] = centres[i, 1]
+            spreads[a] = spread[i]
+            voted += v_sense[i]
+            a += 1
+    return rates, where, voted / total if total > 0.0 else 0.0, spreads
 
 
 @njit(cache=True, error_model="numpy")
-def max_over_directions(W_slots, slot, slot_cells, rows, out):  # pragma: no cover - compiled
-    """``out[r, slot_cells[c]] = max_k W_slots[slot[rows[r]], k, c]`` for each row whose cell has a
-    slot (NaN propagates, as in ``ndarray.max``); other entries are left as they are."""
+def max_over_directions(W_slots, slot, slot_cells, rows):  # pragma: no cover - compiled
+    """The nonzero entries of ``M[rows[r], slot_cells[c]] = max_k W_slots[slot[rows[r]], k, c]``
+    (NaN propagates, as in ``ndarray.max``; a row whose cell has no slot has none): per row their
+    count, then their columns and values, row after row."""
+    m = slot_cells.size
+    counts = np.zeros(rows.size, np.int64)
+    # room for every entry: only the pages written are ever touched (the rest stay unmapped)
+    targets = np.empty(rows.size * m, np.int64)
+    weights = np.empty(rows.size * m, np.float32)
+    row = np.empty(m, np.float32)
+    used = 0
     for r in range(rows.size):
         s = slot[rows[r]]
         if s < 0:
             continue
-        for c in range(slot_cells.size):
-            x = W_slots[s, 0, c]
-            for k in range(1, W_slots.shape[1]):
+        row[:] = W_slots[s, 0, :m]
+        for k in range(1, W_slots.shape[1]):
+            for c in range(m):
                 y = W_slots[s, k, c]
-                if y > x or math.isnan(y):
-                    x = y
-            out[r, slot_cells[c]] = x
+                if y > row[c] or math.isnan(y):
+                    row[c] = y
+        first = used
+        for c in range(m):
+            if row[c] != 0.0:
+                targets[used] = slot_cells[c]
+                weights[used] = row[c]
+                used += 1
+        counts[r] = used - first
+    return counts, targets[:used].copy(), weights[:used].copy()
 
 
 @njit(cache=True, error_model="numpy")
-def rows_as_float64(M, rows):  # pragma: no cover - compiled
-    """``M[rows].astype(np.float64)`` without the intermediate copy."""
-    out = np.empty((rows.size, M.shape[1]))
-    for r in range(rows.size):
-        for c in range(M.shape[1]):
-            out[r, c] = M[rows[r], c]
-    return out
+def spread_along(v, cells, start, count, target, weight, out):  # pragma: no cover - compiled
+    """``out[target] += v_j weight`` over the links of each of ``cells`` (replay's spread)."""
+    for j in cells:
+        vj = v[j]
+        for e in range(start[j], start[j] + count[j]):
+            out[target[e]] += vj * weight[e]

@@ -104,7 +104,9 @@ class BoundaryVectorCells:
         self._coef = self._scale * self._norm_r  # (M,)
         self.rates = np.zeros(self.n)
         self._w = np.empty(self._ang_w.shape)  # scratch: the scan's angular weights
-        self._g = np.empty((*self._ang_w.shape, self.n_distances))  # scratch: eq. 2's radial Gaussians
+        # scratch: eq. 2's radial Gaussians, in float32 (the place cells read the rates in float32; exp is
+        # then twice as fast)
+        self._g = np.empty((*self._ang_w.shape, self.n_distances), dtype=np.float32)
 
     @property
     def preferred(self) -> tuple[np.ndarray, np.ndarray]:
@@ -115,7 +117,7 @@ class BoundaryVectorCells:
 
     def heading_shift(self, heading: float) -> int:
         """Rays by which the egocentric scan is rotated: ``round(heading / delta_theta)``."""
-        return int(np.rint(heading / self._dtheta))
+        return round(heading / self._dtheta)  # (half to even, as np.rint)
 
     def rates_for(self, ranges: np.ndarray, heading: float) -> np.ndarray:
         """BVC rates for an egocentric scan and an allocentric heading (radians), without updating.

@@ -40,6 +40,8 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from hippo_agent.cells import _kernels
@@ -84,6 +86,7 @@ class PathIntegrator:
         self.lag = float(lag)
         self.min_mapped = MIN_MAPPED
         self.last_step = np.zeros(2)
+        self._noise = np.zeros((self.n_particles, 2))  # scratch: one step's motion noise
 
     def start_run(self) -> None:
         """A run begins. The first ever run sets the frame (origin here); later ones are kidnaps."""
@@ -103,10 +106,10 @@ class PathIntegrator:
     def move(self, step: np.ndarray) -> None:
         """Path integration: shift every sample by the allocentric ``step`` (m), plus noise."""
         self.last_step = np.asarray(step, dtype=np.float64)
-        spread = self.motion_noise * float(np.hypot(step[0], step[1])) + self.min_motion_noise
-        self.particles += step
+        spread = self.motion_noise * math.hypot(self.last_step[0], self.last_step[1]) + self.min_motion_noise
         if spread > 0:
-            self.particles += self.rng.normal(0.0, spread, self.particles.shape)
+            self.rng.standard_normal(out=self._noise)
+        _kernels.shift(self.particles, self.last_step, spread, self._noise)
 
     def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0, spreads: np.ndarray | None = None) -> None:
         """Weigh the samples by the sensory vote of cells with ``rates`` > 0 and ``centres``.
@@ -123,18 +126,16 @@ class PathIntegrator:
         place votes broadly and weakly, and the cells that fire in one place only decide.
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
-            variance = self.vote_sigma**2 + (np.zeros(rates.size) if spreads is None else np.asarray(spreads, dtype=np.float64))
-            reliability = rates * (self.vote_sigma**2 / variance)  # each cell's say
+            spreads = np.zeros(rates.size) if spreads is None else np.asarray(spreads, dtype=np.float64)
             if not self.anchored:
+                reliability = rates * (self.vote_sigma**2 / (self.vote_sigma**2 + spreads))  # each cell's say
                 self._redraw(reliability, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
                 self.fresh = False
             # each sample's likelihood: the cells' Gaussians around their centres, where the sample was lag steps ago
-            g = np.empty((self.n_particles, rates.size))
-            _kernels.vote_exponents(self.particles, self.lag * self.last_step, centres, variance, g)
-            vote = np.exp(g, out=g) @ reliability / rates.sum()
-            w = self.weights * (vote + VOTE_FLOOR)
-            self.weights = w / w.sum()
-            if 1.0 / float(np.sum(self.weights**2)) < 0.5 * self.n_particles:
+            ess = _kernels.reweigh(
+                self.particles, self.lag, self.last_step, rates, centres, spreads, self.vote_sigma**2, VOTE_FLOOR, self.weights
+            )
+            if ess < 0.5 * self.n_particles:
                 self._resample()
         self._summarise()
 
@@ -161,10 +162,7 @@ class PathIntegrator:
 
     def _summarise(self) -> None:
         """The estimate is the weighted mean of the heaviest sample's cluster; its weight is the confidence."""
-        best = self.particles[int(np.argmax(self.weights))]
-        near = _kernels.within(self.particles, best, self.anchor_radius**2)
-        w = self.weights[near]
-        self.confidence = float(w.sum())
-        self.estimate = (w @ self.particles[near]) / self.confidence
+        x, y, self.confidence = _kernels.cluster_mean(self.particles, self.weights, self.anchor_radius**2)
+        self.estimate = np.array([x, y])
         if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight:
             self.anchored = True  # (a fresh belief is still where the last run ended: no evidence yet)

@@ -10,14 +10,6 @@ from hippo_agent.cells import _kernels
 
 __all__ = ["PlaceCells"]
 
-MATVEC_ROWS = 1024
-
-
-def _tanh_nonzero(x: np.ndarray, nonzero: np.ndarray) -> None:
-    """``x = tanh(x)`` in place, given the indices where ``x`` is not 0 (tanh keeps 0 and -0.0 as
-    they are, and on a mostly silent population this is far less work)."""
-    x[nonzero] = np.tanh(x[nonzero])
-
 
 class PlaceCells:
     """``n`` place cells driven by ``n_bvc`` boundary vector cells, with a ``W_pp`` tensor.
@@ -93,8 +85,6 @@ class PlaceCells:
         self.W_slots = np.zeros((0, self.n_hd, 0), dtype=np.float32)
         self.s = np.zeros(self.n)
         self.v = np.zeros(self.n)
-        self._nonzero = np.empty(self.n, dtype=np.int64)  # scratch: the cells eq. 4 gives a rate
-        self._nonzero_hd = np.empty(self.n_hd * self.n, dtype=np.int64)  # scratch: the same for eq. 8
         self.trace = np.zeros(self.n)  # Upsilon^p
         self.hd_trace = np.zeros(self.n_hd)  # Upsilon^h
         # path integration (improved model only): the BVC-only response and each cell's centre
@@ -106,8 +96,14 @@ class PlaceCells:
         self.spread_mass = np.zeros(self.n)
 
     @property
-    def _W_pb_blocks(self) -> list[np.ndarray]:
-        return [self.W_pb[i : i + MATVEC_ROWS] for i in range(0, self.n, MATVEC_ROWS)]
+    def W_pb(self) -> np.ndarray:
+        """The BVC -> place weights, ``(n, n_bvc)`` float32: a view of :attr:`W_bp`, which stores them
+        BVC-first so that a step reads only the rows of the BVCs that fire (about half)."""
+        return self.W_bp.T
+
+    @W_pb.setter
+    def W_pb(self, value: np.ndarray) -> None:
+        self.W_bp = np.ascontiguousarray(np.asarray(value, dtype=np.float32).T)
 
     # ------------------------------------------------------------------ state
     def reset_state(self) -> None:
@@ -119,28 +115,26 @@ class PlaceCells:
         self.s_sense = np.zeros(self.n)
         self.v_sense = np.zeros(self.n)
 
-    def _matvec(self, b: np.ndarray) -> np.ndarray:
-        """``W_pb b`` in float32."""
-        b32 = b.astype(np.float32)
-        # row blocks of MATVEC_ROWS: OpenBLAS threads bigger float32 matvecs, which on a loaded
-        # machine made the 4000 x 400 product 30x slower than one thread; 1000 cells is one block
-        return np.concatenate([W @ b32 for W in self._W_pb_blocks]) if self.n > MATVEC_ROWS else self.W_pb @ b32
+    def _bvc_drive(self, b: np.ndarray) -> tuple[np.ndarray, float]:
+        """``W_pb b`` (summed over the BVCs that fire) and ``sum(b)``."""
+        Wb = np.empty(self.n)
+        return Wb, _kernels.bvc_drive(self.W_bp, np.asarray(b, dtype=np.float64), Wb)
 
     def _advance(
         self, s: np.ndarray, v: np.ndarray, Wb: np.ndarray, b_sum: float, extra: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """One eq.-3/4 update given ``W_pb b``, ``sum(b)`` and an optional extra input (path integration)."""
-        # eq. 3 (Euler step, k = dt / tau_p): s += k (-s + W_pb b - Gamma_pb sum(b) - Gamma_pp sum(v) [+ extra])
-        inhibition = self.Gamma_pb * b_sum + self.Gamma_pp * v.sum()
+        # eq. 3 (Euler step, k = dt / tau_p): s += k (-s + W_pb b - Gamma_pb sum(b) - Gamma_pp sum(v) [+ extra]); eq. 4
         s_new, v_new = np.empty(self.n), np.empty(self.n)
         has_extra = extra is not None
-        count = _kernels.advance(s, Wb, inhibition, extra if has_extra else s, has_extra, self.k, self.psi, s_new, v_new, self._nonzero)
-        _tanh_nonzero(v_new, self._nonzero[:count])  # eq. 4: v = tanh([psi s]+)
+        _kernels.advance(
+            s, v, Wb, self.Gamma_pb * b_sum, self.Gamma_pp, extra if has_extra else s, has_extra, self.k, self.psi, s_new, v_new
+        )
         return s_new, v_new
 
     def step(self, b: np.ndarray, n_steps: int = 1) -> np.ndarray:
         """Advance eqs. 3-4 by ``n_steps`` updates with BVC rates ``b``; return the rates."""
-        Wb, b_sum = self._matvec(b), b.sum()
+        Wb, b_sum = self._bvc_drive(b)
         for _ in range(n_steps):
             self.s, self.v = self._advance(self.s, self.v, Wb, b_sum)
         return self.v
@@ -150,7 +144,7 @@ class PlaceCells:
         says) and then the rates with the extra drive ``extra_for()`` (path integration), called
         after each BVC-only update so it can read ``v_sense``; ``None`` = no extra drive (the
         rates then equal the BVC-only response)."""
-        Wb, b_sum = self._matvec(b), b.sum()
+        Wb, b_sum = self._bvc_drive(b)
         for _ in range(n_steps):
             self.s_sense, self.v_sense = self._advance(self.s_sense, self.v_sense, Wb, b_sum)
             extra = extra_for()
@@ -164,7 +158,7 @@ class PlaceCells:
         """Rates from rest after ``n_steps`` updates with ``b`` and the extra drive (the BVC-only
         response is left as it is)."""
         self.s, self.v = np.zeros(self.n), np.zeros(self.n)
-        Wb, b_sum = self._matvec(b), b.sum()
+        Wb, b_sum = self._bvc_drive(b)
         for _ in range(n_steps):
             self.s, self.v = self._advance(self.s, self.v, Wb, b_sum, extra)
         return self.v
@@ -172,7 +166,7 @@ class PlaceCells:
     def rates_for(self, b: np.ndarray, n_steps: int, extra: np.ndarray | None = None) -> np.ndarray:
         """Rates after ``n_steps`` updates from rest with input ``b`` (and ``extra``); the state is not touched."""
         s, v = np.zeros(self.n), np.zeros(self.n)
-        Wb, b_sum = self._matvec(b), b.sum()
+        Wb, b_sum = self._bvc_drive(b)
         for _ in range(n_steps):
             s, v = self._advance(s, v, Wb, b_sum, extra)
         return v
@@ -182,9 +176,9 @@ class PlaceCells:
         """Path-integration drive: ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells
         with a centre ``c_i``, 0 for the others (they stay free to take new places)."""
         out = np.empty(self.n)
-        _kernels.centre_exponents(self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), 2.0 * sigma * sigma, out)
-        np.exp(out, out=out)
-        _kernels.centre_drive(out, self.centre_mass, gain, threshold, out)
+        _kernels.centre_drive(
+            self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), 2.0 * sigma * sigma, gain, threshold, out
+        )
         return out
 
     def learn_centres(self, position: np.ndarray, max_mass: float) -> None:
@@ -205,22 +199,18 @@ class PlaceCells:
         accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
         the edge of what has been mapped, where cells without a centre yet are active), and their
         spreads (:meth:`learn_spread`)."""
-        on_rates, act = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass)
-        total = float(on_rates.sum())
-        rates = self.v_sense[act]
-        share = float(rates.sum()) / total if total > 0 else 0.0
-        return rates, self.centres[act], share, self.spread[act]
+        return _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass, self.centres, self.spread)
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
         """Oja's rule (eq. 5) on the rows of the active cells only."""
         # eq. 5: W_i += eta_pb v_i (b - v_i W_i / alpha_pb), in float64 per active row i; weights decayed
         # below 1e-12 are flushed to 0 before they become slow denormal float32s
-        _kernels.oja_active_rows(self.W_pb, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
+        _kernels.oja_active_rows(self.W_bp, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
 
     def update_hd_trace(self, h: np.ndarray) -> None:
         """Move the head-direction trace Upsilon^h toward ``h`` (eq. 6c)."""
-        self.hd_trace += self.hd_trace_rate * (h - self.hd_trace)  # eq. 6
+        _kernels.update_trace(self.hd_trace, h, self.hd_trace_rate, -np.inf)  # eq. 6 (no floor)
 
     def update_trace(self) -> None:
         """Move the place-cell trace Upsilon^p toward the rates (eqs. 6a-b), flooring tiny values."""
@@ -254,12 +244,12 @@ class PlaceCells:
         where it can be nonzero: post-synaptic ``i`` active (any traced or active ``j``), and
         pre-synaptic ``j`` active (the other ``i``).
         """
-        act, idx, rest = _kernels.pp_cells(self.v, self.trace)
+        act, idx, rest, all_slotted = _kernels.pp_cells(self.v, self.trace, self.slot)
         if act.size == 0:
             return
-        self._ensure_slots(idx)
-        h = (self.eta_pp * self.hd_trace).astype(np.float32)
-        _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, act, idx, rest, h)  # eq. 7
+        if not all_slotted:
+            self._ensure_slots(idx)
+        _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, act, idx, rest, self.eta_pp, self.hd_trace)  # eq. 7
 
     def set_W_pp(self, pre: int, post: int, weights: np.ndarray) -> None:
         """Set ``W^pp_{k, post, pre}`` for every direction ``k`` (for tests and experiments)."""
@@ -306,27 +296,31 @@ class PlaceCells:
         return out
 
     # ------------------------------------------------------------------ imagination
+    def imagine(self, v: np.ndarray | None = None) -> np.ndarray:
+        """Eq. 8 for the cells holding slots: their imagined rates one step away in each direction,
+        shape ``(n_hd, n_slots)``, in the order of :attr:`slot_cells`. Every other cell's is 0."""
+        v = np.asarray(self.v if v is None else v, dtype=np.float64)
+        out = np.empty((self.n_hd, self.n_slots))
+        _kernels.imagined_rates(self.W_slots, self.slot, self.slot_cells, v, out)
+        return out
+
     def preplay(self, v: np.ndarray | None = None) -> np.ndarray:
         """Imagined rates one step away in each direction (eq. 8), shape ``(n_hd, n)``."""
-        v = np.asarray(self.v if v is None else v, dtype=np.float64)
-        act = np.flatnonzero(v > 0.0)
-        act = act[self.slot[act] >= 0]  # cells without a slot drive nothing
-        m = self.n_slots
-        if act.size:
-            rows = self.W_slots[self.slot[act], :, :m].reshape(act.size, -1)
-            rec = (v[act].astype(np.float32) @ rows).reshape(self.n_hd, m)  # sum_j W_kij v_j, over the slots
-        else:
-            rec = np.zeros((self.n_hd, m), dtype=np.float32)
-        x = np.empty((self.n_hd, self.n))
-        count = _kernels.preplay_argument(rec, self.slot_cells, self.slot, v, x, self._nonzero_hd)
-        _tanh_nonzero(x.reshape(-1), self._nonzero_hd[:count])  # eq. 8
+        x = np.zeros((self.n_hd, self.n))
+        x[:, self.slot_cells] = self.imagine(v)
         return x
 
+    def replay_links(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The nonzero entries of the rows ``rows`` (pre-synaptic cells) of ``M[j, i] = max_k
+        W^pp_{kij}``, what replay spreads along (Algorithm 1): per row their count, then their
+        columns (post-synaptic cells) and float32 values, row after row."""
+        return _kernels.max_over_directions(self.W_slots, self.slot, self.slot_cells, np.asarray(rows, dtype=np.int64))
+
     def replay_weights(self, rows: np.ndarray | None = None) -> np.ndarray:
-        """``M[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), what replay spreads along
-        (Algorithm 1): ``v_bar @ M`` is the recurrent drive. ``rows`` selects pre-synaptic cells
-        (replay asks only for the rows of cells it has reached); ``None`` = all."""
+        """``M[j, i] = max_k W^pp_{kij}`` as dense rows (pre-synaptic first; ``rows`` selects
+        pre-synaptic cells, ``None`` = all), for analysis: ``v_bar @ M`` is replay's recurrent drive."""
         rows = np.arange(self.n) if rows is None else np.asarray(rows, dtype=np.int64)
+        counts, targets, weights = self.replay_links(rows)
         out = np.zeros((rows.size, self.n), dtype=np.float32)
-        _kernels.max_over_directions(self.W_slots, self.slot, self.slot_cells, rows, out)
+        out[np.repeat(np.arange(rows.size), counts), targets] = weights
         return out

@@ -11,17 +11,22 @@ from hippo_agent.cells import _kernels
 __all__ = ["RewardCells", "replay"]
 
 
+Links = tuple[np.ndarray, np.ndarray, np.ndarray]  # per row the count of nonzero entries, then their columns and values
+
+
 def replay(
     v: np.ndarray,
-    W_max: np.ndarray | Callable[[np.ndarray], np.ndarray],
+    W_max: np.ndarray | Callable[[np.ndarray], Links],
     iterations: int,
     tau_r: float,
 ) -> np.ndarray | None:
     """Backward replay (Algorithm 1) from place rates ``v``; return the normalised ``Delta W_rp``.
 
-    ``W_max[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), either as an ``(n, n)`` array or as
-    a function returning the rows for given pre-synaptic cells (:meth:`PlaceCells.replay_weights`);
-    with a function only the rows of the cells replay reaches are ever computed, once each.
+    ``W_max[j, i] = max_k W^pp_{kij}`` (pre-synaptic first), either as an ``(n, n)`` array or as a
+    function giving the nonzero entries of the rows of given pre-synaptic cells, as
+    :meth:`PlaceCells.replay_links` does. Only the rows of the cells replay reaches are read, once
+    each, and only their nonzero entries (a cell links to the few cells it was active next to) are
+    kept: an iteration costs the links of the active cells, not ``n`` per active cell.
     Returns ``None`` when there is nothing to learn (no place cell active at the start: the
     division by ``||v||_inf`` would be 0/0).
     """
@@ -29,39 +34,51 @@ def replay(
     if not np.any(v_bar > 0.0):
         return None
     n = v_bar.size
-    if callable(W_max):
-        rows_of = W_max
-        # the rows computed so far, in the order they were asked for (not an (n, n) array: at 10,000
-        # cells that would be 400 MB, made resident in huge pages by a few scattered rows)
-        store = np.empty((0, n), dtype=np.float32)
-        used = 0
-        where = np.full(n, -1, dtype=np.int64)  # cell -> its row in the store
+    links = _LinkStore(n, W_max if callable(W_max) else _dense_links(W_max))
     dW = np.zeros_like(v_bar)
-    active = rows = None
     for t_r in range(iterations):
         dW += v_bar / v_bar.max() * np.exp(-t_r / tau_r)  # Algorithm 1, line 3
-        was_active, active = active, np.flatnonzero(v_bar > 0.0)
-        if was_active is None or not np.array_equal(active, was_active):  # else the same rows again
-            rows = None  # (freed before its successor is built)
-            if callable(W_max):
-                need = active[where[active] < 0]
-                if need.size:
-                    if used + need.size > store.shape[0]:  # grow by doubling
-                        grown = np.empty((max(used + need.size, 2 * store.shape[0]), n), dtype=np.float32)
-                        grown[:used] = store[:used]
-                        store = grown
-                    store[used : used + need.size] = rows_of(need)
-                    where[need] = np.arange(used, used + need.size)
-                    used += need.size
-                rows = _kernels.rows_as_float64(store, where[active])
-            else:
-                rows = W_max[active].astype(np.float64)
-            # (the product below is in float64: the rows are cast once, not on every iteration)
-        spread = v_bar[active] @ rows  # sum_l (max_k W^pp_{kjl}) v_bar_l
+        active = np.flatnonzero(v_bar > 0.0)
+        links.fetch(active)
+        spread = np.zeros(n)  # sum_l (max_k W^pp_{kjl}) v_bar_l
+        _kernels.spread_along(v_bar, active, links.start, links.count, links.target, links.weight, spread)
         v_bar = np.tanh(np.maximum(v_bar + spread, 0.0))  # Algorithm 1, line 4
         if not np.any(v_bar > 0.0):
             break
     return dW / dW.max()  # Algorithm 1, line 6 (dW.max() >= 1: iteration 0 adds v/max v)
+
+
+def _dense_links(W: np.ndarray) -> Callable[[np.ndarray], Links]:
+    """The nonzero entries of given rows of a dense ``W``."""
+
+    def links_of(rows: np.ndarray) -> Links:
+        r, c = np.nonzero(W[rows])
+        return np.bincount(r, minlength=rows.size), c, W[rows[r], c]
+
+    return links_of
+
+
+class _LinkStore:
+    """The links of the cells fetched so far: for cell ``j``, ``target[start[j] : start[j] +
+    count[j]]`` with weights ``weight[...]`` (float64); ``start`` is -1 until fetched."""
+
+    def __init__(self, n: int, links_of: Callable[[np.ndarray], Links]) -> None:
+        self.links_of = links_of
+        self.start = np.full(n, -1, dtype=np.int64)
+        self.count = np.zeros(n, dtype=np.int64)
+        self.target = np.empty(0, dtype=np.int64)
+        self.weight = np.empty(0)
+
+    def fetch(self, cells: np.ndarray) -> None:
+        """Read the links of the ``cells`` not fetched yet."""
+        need = cells[self.start[cells] < 0]
+        if need.size == 0:
+            return
+        counts, targets, weights = self.links_of(need)
+        self.start[need] = self.target.size + np.cumsum(counts) - counts
+        self.count[need] = counts
+        self.target = np.concatenate((self.target, targets))
+        self.weight = np.concatenate((self.weight, np.asarray(weights, dtype=np.float64)))
 
 
 class RewardCells:
@@ -127,6 +144,12 @@ class RewardCells:
         total = v.sum(axis=1)
         out = v @ W
         _kernels.divide_where_positive(out, total)  # eq. 9
+        return out
+
+    def values_of(self, rates: np.ndarray, cells: np.ndarray) -> np.ndarray:
+        """Eq. 9 (effective weights) for each row of ``rates``, the rates of ``cells`` (every other cell silent)."""
+        out = np.empty(rates.shape[0])
+        _kernels.values_of(rates, cells, self.W_eff, out)
         return out
 
     def depress(self, v: np.ndarray, lambda_: float) -> None:
