@@ -2,10 +2,9 @@
 
 Each kernel does the arithmetic of the equation written out in its docstring and in the calling
 method's comments, touching only the cells that matter (active, traced, holding a slot, firing
-BVCs), in plain IEEE arithmetic: no fused multiply-adds, no fast-math reordering, so the same
-inputs give the same bits on any machine running the same numba build. ``exp`` and ``tanh`` are
-libm's (scalar), called only where the result is needed; NumPy's vectorised ``exp`` is kept only
-for the BVCs' thousands of radial Gaussians, where it is 4x faster. ``error_model="numpy"``: a
+BVCs), in plain IEEE arithmetic: no fused multiply-adds, no fast-math reordering of sums. ``exp``
+and ``tanh`` are libm's (scalar), called only where the result is needed; NumPy's vectorised
+``exp`` is kept for the BVCs' thousands of radial Gaussians, where it is about 4x faster per value. ``error_model="numpy"``: a
 division by 0 gives inf or nan, as in NumPy, not an exception.
 """
 
