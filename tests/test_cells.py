@@ -294,3 +294,55 @@ def test_replay_with_lazy_rows_equals_dense_matrix():
     lazy = replay(v, pc.replay_links, 20, 2.0)
     np.testing.assert_array_equal(dense, lazy)
     np.testing.assert_array_equal(pc.replay_weights(np.array([3, 4])), pc.replay_weights()[[3, 4]])
+
+
+# ------------------------------------------------------------------ the compiled kernels against plain NumPy
+def learnt_place(n=60, steps=300, seed=5):
+    """Place cells whose W_pp has been learnt on a random walk of a few active cells at a time."""
+    pc = make_place(n=n, n_bvc=16)
+    rng = np.random.default_rng(seed)
+    for _ in range(steps):
+        v = np.zeros(n)
+        v[rng.choice(n, 3, replace=False)] = rng.uniform(0.1, 0.9, 3)
+        drive(pc, [v], rng.uniform(-np.pi, np.pi))
+    return pc, rng
+
+
+def test_bvc_drive_is_the_float64_product_to_float32_precision():
+    pc = make_place(n=300, n_bvc=400)
+    rng = np.random.default_rng(2)
+    pc.W_pb = rng.uniform(0, 1, (300, 400)) * (rng.random((300, 400)) < 0.4)
+    b = rng.uniform(0, 0.5, 400) * (rng.random(400) < 0.55)  # about half the BVCs silent, as in a scan
+    Wb, b_sum = pc._bvc_drive(b)
+    np.testing.assert_allclose(Wb, pc.W_pb.astype(np.float64) @ b, rtol=1e-5)
+    assert b_sum == pytest.approx(b.sum(), rel=1e-12)
+    assert pc.W_pb.shape == (300, 400) and pc.W_bp.flags.c_contiguous  # stored BVC-first, read as (place, BVC)
+
+
+def test_imagined_values_equal_eq_8_and_9_on_the_full_tensor():
+    pc, rng = learnt_place()
+    rc = RewardCells(pc.n)
+    rc.add_goal()
+    rc.W_rp[0] = rng.uniform(0, 1, pc.n)
+    rc.reset_effective()
+    for _ in range(5):
+        v = np.zeros(pc.n)
+        v[rng.choice(pc.n, 4, replace=False)] = [0.9, 0.5, 0.1, 0.01]
+        # eq. 8 from the dense slices W^pp_k (post, pre), then eq. 9
+        dense = np.stack([np.tanh(np.maximum(pc.W_pp_slice(k).astype(np.float64) @ v - v, 0.0)) for k in range(pc.n_hd)])
+        np.testing.assert_allclose(pc.preplay(v), dense, rtol=1e-6, atol=1e-7)
+        expected = (dense @ rc.W_eff) / np.where(dense.sum(axis=1) > 0, dense.sum(axis=1), 1.0)
+        np.testing.assert_allclose(rc.values_of(pc.imagine(v), pc.slot_cells), expected, rtol=1e-6, atol=1e-9)
+
+
+def test_replay_matches_algorithm_1_written_in_numpy():
+    pc, rng = learnt_place(n=200, steps=30)
+    M = pc.replay_weights().astype(np.float64)
+    assert 0 < np.count_nonzero(M) < M.size / 2  # links and gaps both
+    v = np.zeros(pc.n)
+    v[rng.choice(pc.n, 3, replace=False)] = [0.8, 0.4, 0.1]
+    v_bar, dW = v.copy(), np.zeros(pc.n)
+    for t in range(20):  # Algorithm 1, dense
+        dW += v_bar / v_bar.max() * np.exp(-t / 2.0)
+        v_bar = np.tanh(np.maximum(v_bar + v_bar @ M, 0.0))
+    np.testing.assert_allclose(replay(v, pc.replay_links, 20, 2.0), dW / dW.max(), rtol=1e-12)

@@ -179,3 +179,27 @@ def test_paper_config_is_the_paper_model():
     assert AgentConfig.paper(n_place=200).n_place == 200
     assert AgentConfig().path_integration
     assert math.isclose(AgentConfig().trace_rate, paper.trace_rate)
+
+
+def test_the_vote_and_the_estimate_are_the_formulas_written_in_numpy():
+    pi = integrator(lag=2.0)
+    pi.start_run()
+    rng = np.random.default_rng(1)
+    pi.particles = rng.normal(0.0, 0.5, (100, 2))
+    pi.weights = rng.uniform(0.5, 1.0, 100)
+    pi.weights /= pi.weights.sum()
+    pi.last_step = np.array([0.05, -0.02])
+    rates, centres, spreads = rng.uniform(0.1, 0.9, 4), rng.normal(0.0, 0.5, (4, 2)), rng.uniform(0.0, 0.3, 4)
+    before = pi.weights.copy()
+    pi.correct(rates, centres, 1.0, spreads)
+    # each cell's normalised Gaussian vote around its centre, where the sample was lag steps ago
+    variance = 0.4**2 + spreads
+    d2 = (((pi.particles - 2.0 * pi.last_step)[:, None, :] - centres[None]) ** 2).sum(axis=2)
+    vote = np.exp(-d2 / (2 * variance)) @ (rates * 0.4**2 / variance) / rates.sum()
+    w = before * (vote + 1e-3)
+    w /= w.sum()
+    assert 1.0 / np.sum(w**2) >= 50  # no resampling happened, so the weights compare one to one
+    np.testing.assert_allclose(pi.weights, w, rtol=1e-12)
+    near = np.linalg.norm(pi.particles - pi.particles[np.argmax(w)], axis=1) <= 0.3
+    np.testing.assert_allclose(pi.estimate, w[near] @ pi.particles[near] / w[near].sum(), rtol=1e-12)
+    assert pi.confidence == pytest.approx(w[near].sum(), rel=1e-12)
