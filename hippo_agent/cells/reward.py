@@ -117,7 +117,7 @@ class RewardCells:
         """Start a run: ``\\bar W^rp <- W^rp`` for the current goal."""
         self.W_eff = self.W_rp[-1].copy() if self.n else np.zeros(self.n_place)
 
-    def learn(self, v: np.ndarray, W_max: np.ndarray | Callable[[np.ndarray], np.ndarray], iterations: int, tau_r: float) -> bool:
+    def learn(self, v: np.ndarray, W_max: np.ndarray | Callable[[np.ndarray], Links], iterations: int, tau_r: float) -> bool:
         """Replay from ``v`` and add the result to the current goal's weights (Algorithm 1).
 
         Returns ``False`` (and learns nothing) when no place cell is active.
