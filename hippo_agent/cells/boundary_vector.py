@@ -104,8 +104,8 @@ class BoundaryVectorCells:
         self._coef = self._scale * self._norm_r  # (M,)
         self.rates = np.zeros(self.n)
         self._w = np.empty(self._ang_w.shape)  # scratch: the scan's angular weights
-        # scratch: eq. 2's radial Gaussians, in float32 (the place cells read the rates in float32; exp is
-        # then twice as fast)
+        # scratch: eq. 2's radial Gaussians, in float32 (the place cells read the rates in float32; NumPy's
+        # exp of these 5,200 values then takes 2.9 instead of 4.6 us)
         self._g = np.empty((*self._ang_w.shape, self.n_distances), dtype=np.float32)
 
     @property
