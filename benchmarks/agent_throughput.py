@@ -69,8 +69,12 @@ class Args:
     """seeds the environment, the agent and the recorded walk"""
     model: str = "default"
     """default (AgentConfig(), with path integration) or paper (AgentConfig.paper())"""
-    target: float = 2_000.0
-    """steps/s aimed for at 1000 place cells (and, with --scaling, at --target-cells)"""
+    target: float = 10_000.0
+    """exploiting steps/s aimed for at 1000 place cells"""
+    target_x_ratinabox: float = 25.0
+    """exploiting steps/s aimed for at 1000 place cells, as a multiple of RatInABox's"""
+    target_scaling: float = 2_000.0
+    """steps/s aimed for at --target-cells, in both walks (with --scaling)"""
     peer_steps: int = 500
     """steps of RatInABox (an agent moving, its place cells and 400 BVCs updating, no learning) timed
     per repeat at each cell count, beside the agent; 0 skips it. Needs the ``peers`` extra."""
@@ -106,7 +110,7 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
         ("place", "learn_spread"),
     ),
     "learning": (("place", "learn_pb"), ("place", "learn_pp"), ("place", "update_trace"), ("place", "update_hd_trace")),
-    "preplay": (("place", "imagine"), ("reward", "values_of"), ("reward", "value"), ("reward", "depress")),
+    "preplay": (("place", "imagined_values"), ("reward", "value"), ("reward", "depress")),
 }
 
 
@@ -271,17 +275,29 @@ def main(argv: list[str] | None = None) -> None:
             + ("" if peer is None else f"; RatInABox {peer:,.0f} steps/s ({row['exploiting_x_ratinabox']:.1f}x)")
         )
 
-    paper_scale = [r for r in rows if r["n_place"] == 1000]
-    record = {
-        **_header(args, load_at_start),
-        "rows": rows,
-        "target_steps_per_second_1000_cells": args.target,
-        "meets_target": bool(paper_scale)
-        and min(paper_scale[0]["exploiting_steps_per_second"], paper_scale[0]["exploring_steps_per_second"]) >= args.target,
-    }
+    record = {**_header(args, load_at_start), "rows": rows, "targets_1000_cells": targets_1000_cells(rows, args)}
+    if record["targets_1000_cells"] is not None:
+        print(f"  targets at 1000 place cells: {record['targets_1000_cells']}")
     out = output_path(args.out or "benchmarks/results/agent_throughput.json")
     hippo_env.write_json(out, record)
     print(f"wrote {out}")
+
+
+def targets_1000_cells(rows: list[dict[str, Any]], args: Args) -> dict[str, Any] | None:
+    """The issue's targets at 1000 place cells, exploiting: steps/s, and steps/s over RatInABox's
+    (``None`` where RatInABox was not timed); ``None`` without a 1000-cell row."""
+    row = next((r for r in rows if r["n_place"] == 1000), None)
+    if row is None:
+        return None
+    steps, ratio = row["exploiting_steps_per_second"], row.get("exploiting_x_ratinabox")
+    return {
+        "steps_per_second": {"target": args.target, "measured": steps, "met": steps >= args.target},
+        "x_ratinabox": {
+            "target": args.target_x_ratinabox,
+            "measured": ratio,
+            "met": None if ratio is None else ratio >= args.target_x_ratinabox,
+        },
+    }
 
 
 def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:
@@ -368,7 +384,7 @@ def targets(rows: list[dict[str, Any]], args: Args) -> dict[str, Any]:
     return {
         "n_place": args.target_cells,
         "measured": True,
-        "steps_per_second": {"target": args.target, "slowest_walk": slowest, "met": slowest >= args.target},
+        "steps_per_second": {"target": args.target_scaling, "slowest_walk": slowest, "met": slowest >= args.target_scaling},
         "peak_rss_mb": {"target": args.target_rss_mb, "measured": row["peak_rss_mb"], "met": row["peak_rss_mb"] < args.target_rss_mb},
         "replay_ms": {"target": args.target_replay_ms, "measured": row["replay_ms"], "met": row["replay_ms"] < args.target_replay_ms},
     }
@@ -424,7 +440,7 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
         )
     anchor = rows[-1]["exploiting_steps_per_second"]
     ax.plot(n, anchor * n[-1] / n, "k:", label="cost proportional to n (slope -1)")
-    ax.axhline(args.target, color="r", ls="--", lw=1, label=f"target {args.target:,.0f} steps/s")
+    ax.axhline(args.target_scaling, color="r", ls="--", lw=1, label=f"target {args.target_scaling:,.0f} steps/s")
     ax.axvline(args.target_cells, color="grey", lw=0.8)
     ax.set(xscale="log", yscale="log", xlabel="place cells", ylabel="steps / s (best of repeats)", title=f"agent ({args.model} model)")
     ax.legend(fontsize=8)

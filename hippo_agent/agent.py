@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from hippo_agent import analysis, persistence
-from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells
+from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells, _kernels
 from hippo_agent.config import AgentConfig
 from hippo_env.dmtp import rollout
 from hippo_env.geometry import wrap_angle
@@ -310,11 +310,13 @@ class HippocampalAgent:
     def _odometry_step(self, observation: dict, heading_vec: np.ndarray) -> np.ndarray:
         """The allocentric displacement: the encoders' (forward, left) rotated by the compass."""
         try:
-            forward, left = (float(x) for x in np.asarray(observation["odometry"], dtype=np.float64).reshape(2))
+            forward, left = observation["odometry"]
+            forward, left = float(forward), float(left)
         except (KeyError, TypeError, ValueError) as exc:
             raise ValueError("observation must hold 'odometry' (forward, left) in metres: path integration needs it") from exc
-        norm = math.hypot(float(heading_vec[0]), float(heading_vec[1])) or 1.0
-        c, s = float(heading_vec[0]) / norm, float(heading_vec[1]) / norm
+        hx, hy = float(heading_vec[0]), float(heading_vec[1])
+        norm = math.hypot(hx, hy) or 1.0
+        c, s = hx / norm, hy / norm
         return np.array([c * forward - s * left, s * forward + c * left])
 
     def _pi_input(self) -> np.ndarray:
@@ -346,12 +348,12 @@ class HippocampalAgent:
         v = self.place.v
         if self.reward.value(v) <= c.xi_here:
             return None
-        values = self.reward.values_of(self.place.imagine(v), self.place.slot_cells)  # eqs. 8-9
+        values = self.place.imagined_values(self.reward.W_eff, v)  # eqs. 8-9
         self.last_values = values
-        if values.max() < c.xi:
-            return None
         # eq. 10: circular mean of the directions weighted by their values (atan2 keeps the quadrant)
-        a_star = math.atan2(float(values @ self._dir_sin), float(values @ self._dir_cos))
+        a_star, best = _kernels.circular_mean(values, self._dir_cos, self._dir_sin)
+        if best < c.xi:
+            return None
         self.reward.depress(v, c.lambda_)  # eq. 11
         self._new_segment(a_star)  # if exploration takes over, it starts from here
         return a_star

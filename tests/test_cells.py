@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hippo_agent import AgentConfig
-from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells, replay
+from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells, _kernels, replay
 
 BVC = AgentConfig().bvc_kwargs()  # the cells' parameters as the agent passes them
 
@@ -319,6 +319,21 @@ def test_bvc_drive_is_the_float64_product_to_float32_precision():
     assert pc.W_pb.shape == (300, 400) and pc.W_bp.flags.c_contiguous  # stored BVC-first, read as (place, BVC)
 
 
+@pytest.mark.parametrize("n_firing", [0, 1, 7, 8, 399])
+def test_bvc_drive_sums_row_after_row_in_float32_across_tiles(n_firing):
+    n = 2 * _kernels.DRIVE_TILE + 5  # two full tiles and a short one
+    rng = np.random.default_rng(n_firing)
+    W_bp = (rng.uniform(0, 1, (400, n)) * (rng.random((400, n)) < 0.4)).astype(np.float32)
+    b = np.zeros(400)
+    b[rng.choice(400, n_firing, replace=False)] = rng.uniform(0.01, 0.5, n_firing)
+    expected = np.zeros(n, dtype=np.float32)
+    for c in np.flatnonzero(b > 0):  # one firing row at a time, in BVC order, as one float32 sum per cell
+        expected += W_bp[c] * np.float32(b[c])
+    out = np.empty(n)
+    assert _kernels.bvc_drive(W_bp, b, out) == pytest.approx(b.sum(), rel=1e-12)
+    assert np.array_equal(out, expected)
+
+
 def test_imagined_values_equal_eq_8_and_9_on_the_full_tensor():
     pc, rng = learnt_place()
     rc = RewardCells(pc.n)
@@ -332,7 +347,15 @@ def test_imagined_values_equal_eq_8_and_9_on_the_full_tensor():
         dense = np.stack([np.tanh(np.maximum(pc.W_pp_slice(k).astype(np.float64) @ v - v, 0.0)) for k in range(pc.n_hd)])
         np.testing.assert_allclose(pc.preplay(v), dense, rtol=1e-6, atol=1e-7)
         expected = (dense @ rc.W_eff) / np.where(dense.sum(axis=1) > 0, dense.sum(axis=1), 1.0)
-        np.testing.assert_allclose(rc.values_of(pc.imagine(v), pc.slot_cells), expected, rtol=1e-6, atol=1e-9)
+        values = pc.imagined_values(rc.W_eff, v)
+        np.testing.assert_allclose(values, expected, rtol=1e-6, atol=1e-9)
+        # the rates imagine() gives, summed in slot order
+        for value, rates in zip(values, pc.imagine(v)):
+            num = total = 0.0
+            for rate, weight in zip(rates.tolist(), rc.W_eff[pc.slot_cells].tolist()):
+                if rate > 0.0:
+                    num, total = num + weight * rate, total + rate
+            assert value == (num / total if total > 0.0 else 0.0)
 
 
 def test_replay_matches_algorithm_1_written_in_numpy():
@@ -346,3 +369,14 @@ def test_replay_matches_algorithm_1_written_in_numpy():
         dW += v_bar / v_bar.max() * np.exp(-t / 2.0)
         v_bar = np.tanh(np.maximum(v_bar + v_bar @ M, 0.0))
     np.testing.assert_allclose(replay(v, pc.replay_links, 20, 2.0), dW / dW.max(), rtol=1e-12)
+
+
+def test_eq_10_heads_along_the_value_weighted_circular_mean():
+    theta = 2 * np.pi * np.arange(8) / 8
+    values = np.array([0.0, 0.2, 0.9, 0.3, 0.0, 0.0, 0.0, 0.1])
+    heading, best = _kernels.circular_mean(values, np.cos(theta), np.sin(theta))
+    assert heading == pytest.approx(math.atan2(values @ np.sin(theta), values @ np.cos(theta)), abs=1e-12)
+    assert best == 0.9
+    assert _kernels.circular_mean(np.array([0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0]), np.cos(theta), np.sin(theta))[0] == pytest.approx(
+        3 * np.pi / 4
+    )

@@ -146,7 +146,7 @@ def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
     }
     judged = agent_throughput.targets([row], args)
     assert judged["measured"]
-    assert judged["steps_per_second"] == {"target": args.target, "slowest_walk": 2500, "met": 2500 >= args.target}
+    assert judged["steps_per_second"] == {"target": args.target_scaling, "slowest_walk": 2500, "met": 2500 >= args.target_scaling}
     assert not judged["peak_rss_mb"]["met"] and judged["replay_ms"]["met"]
     explored = {**row, "exploit_decisions": {"explore": 90, "exploit": 10, "bumps": 0, "replays": 0}}
     assert not agent_throughput.targets([explored], args)["measured"]
@@ -154,3 +154,13 @@ def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
     assert not agent_throughput.targets([{**row, "found_goal": False}], args)["measured"]
     assert not agent_throughput.targets([{**row, "replay_from_cells": 0}], args)["measured"]
     assert agent_throughput.targets([row], agent_throughput.Args(target_cells=7)) == {"n_place": 7, "measured": False}
+
+
+def test_agent_targets_at_1000_cells_judge_the_exploiting_walk_and_the_ratio_to_ratinabox():
+    args = agent_throughput.Args()
+    row = {"n_place": 1000, "exploiting_steps_per_second": 10_500, "exploring_steps_per_second": 13_000, "exploiting_x_ratinabox": 24.9}
+    judged = agent_throughput.targets_1000_cells([row], args)
+    assert judged["steps_per_second"] == {"target": 10_000.0, "measured": 10_500, "met": True}
+    assert judged["x_ratinabox"] == {"target": 25.0, "measured": 24.9, "met": False}
+    assert agent_throughput.targets_1000_cells([{**row, "exploiting_x_ratinabox": None}], args)["x_ratinabox"]["met"] is None
+    assert agent_throughput.targets_1000_cells([{**row, "n_place": 250}], args) is None

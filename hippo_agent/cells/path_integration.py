@@ -132,9 +132,11 @@ class PathIntegrator:
                 self._redraw(reliability, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
                 self.fresh = False
             # each sample's likelihood: the cells' Gaussians around their centres, where the sample was lag steps ago
-            ess = _kernels.reweigh(
-                self.particles, self.lag, self.last_step, rates, centres, spreads, self.vote_sigma**2, VOTE_FLOOR, self.weights
-            )
+            vote_var = self.vote_sigma**2
+            gauss = np.empty((self.n_particles, rates.size))
+            _kernels.vote_exponents(self.particles, self.lag, self.last_step, centres, spreads, vote_var, gauss)
+            np.exp(gauss, out=gauss)  # (NumPy's vectorised exp: 4x faster than one call per value)
+            ess = _kernels.reweigh(gauss, rates, spreads, vote_var, VOTE_FLOOR, self.weights)
             if ess < 0.5 * self.n_particles:
                 self._resample()
         self._summarise()

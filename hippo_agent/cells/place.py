@@ -94,6 +94,7 @@ class PlaceCells:
         self.centre_mass = np.zeros(self.n)  # 0: no centre yet
         self.spread = np.zeros(self.n)  # m^2: how far from its centre the boundary code alone fires the cell
         self.spread_mass = np.zeros(self.n)
+        self._vote = (np.empty(self.n), np.empty((self.n, 2)), np.empty(self.n))  # scratch for sensory_vote
 
     @property
     def W_pb(self) -> np.ndarray:
@@ -199,7 +200,9 @@ class PlaceCells:
         accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
         the edge of what has been mapped, where cells without a centre yet are active), and their
         spreads (:meth:`learn_spread`)."""
-        return _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass, self.centres, self.spread)
+        rates, where, spreads = self._vote
+        n, share = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass, self.centres, self.spread, rates, where, spreads)
+        return rates[:n].copy(), where[:n].copy(), share, spreads[:n].copy()
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
@@ -244,12 +247,10 @@ class PlaceCells:
         where it can be nonzero: post-synaptic ``i`` active (any traced or active ``j``), and
         pre-synaptic ``j`` active (the other ``i``).
         """
-        act, idx, rest, all_slotted = _kernels.pp_cells(self.v, self.trace, self.slot)
-        if act.size == 0:
-            return
-        if not all_slotted:
-            self._ensure_slots(idx)
-        _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, act, idx, rest, self.eta_pp, self.hd_trace)  # eq. 7
+        if _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, self.eta_pp, self.hd_trace):  # eq. 7
+            # some of the cells it touches hold no slot yet: give them one and update
+            self._ensure_slots(np.flatnonzero((self.v > 0.0) | (self.trace > 0.0)))
+            _kernels.pp_update(self.W_slots, self.slot, self.v, self.trace, self.eta_pp, self.hd_trace)
 
     def set_W_pp(self, pre: int, post: int, weights: np.ndarray) -> None:
         """Set ``W^pp_{k, post, pre}`` for every direction ``k`` (for tests and experiments)."""
@@ -303,6 +304,14 @@ class PlaceCells:
         out = np.empty((self.n_hd, self.n_slots))
         _kernels.imagined_rates(self.W_slots, self.slot, self.slot_cells, v, out)
         return out
+
+    def imagined_values(self, W: np.ndarray, v: np.ndarray | None = None) -> np.ndarray:
+        """Eq. 9 of the imagined rates (eq. 8): the rate one step away in each direction, shape
+        ``(n_hd,)``, of a reward cell with weights ``W`` (one per place cell)."""
+        v = np.asarray(self.v if v is None else v, dtype=np.float64)
+        values = np.empty(self.n_hd)
+        _kernels.imagined_values(self.W_slots, self.slot, self.slot_cells, v, np.asarray(W, dtype=np.float64), values)
+        return values
 
     def preplay(self, v: np.ndarray | None = None) -> np.ndarray:
         """Imagined rates one step away in each direction (eq. 8), shape ``(n_hd, n)``."""

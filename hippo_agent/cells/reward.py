@@ -139,17 +139,10 @@ class RewardCells:
         """
         W = self.W_eff if W is None else W
         if v.ndim == 1:
-            total = float(v.sum())
-            return float(v @ W) / total if total > 0.0 else 0.0  # eq. 9
+            return _kernels.value(np.asarray(v, dtype=np.float64), np.asarray(W, dtype=np.float64))  # eq. 9
         total = v.sum(axis=1)
         out = v @ W
         _kernels.divide_where_positive(out, total)  # eq. 9
-        return out
-
-    def values_of(self, rates: np.ndarray, cells: np.ndarray) -> np.ndarray:
-        """Eq. 9 (effective weights) for each row of ``rates``, the rates of ``cells`` (every other cell silent)."""
-        out = np.empty(rates.shape[0])
-        _kernels.values_of(rates, cells, self.W_eff, out)
         return out
 
     def depress(self, v: np.ndarray, lambda_: float) -> None:
