@@ -171,14 +171,18 @@ def bvc_exponents(
 
 @njit(cache=True, error_model="numpy")
 def bvc_sum(w, g, coef, tiny, out):  # pragma: no cover - compiled
-    """``out[d * M + m] = (sum_k w[d, k] g[d, k, m]) * coef[m]`` summed in ray order, below ``tiny`` set to 0."""
+    """``out[d * M + m] = (sum_k w[d, k] g[d, k, m]) * coef[m]`` summed in ray order, below ``tiny`` set to 0.
+    (The distances ``m`` are the inner loop: contiguous, so it runs in vector registers.)"""
     D, W, M = g.shape
+    acc = np.empty(M)
     for d in range(D):
+        acc[:] = 0.0
+        for k in range(W):
+            wk = w[d, k]
+            for m in range(M):
+                acc[m] += wk * g[d, k, m]
         for m in range(M):
-            acc = 0.0
-            for k in range(W):
-                acc += w[d, k] * g[d, k, m]
-            x = acc * coef[m]
+            x = acc[m] * coef[m]
             out[d * M + m] = 0.0 if x < tiny else x
 
 
@@ -340,14 +344,16 @@ def imagined_values(W_slots, slot, slot_cells, v, W, values):  # pragma: no cove
     The rates themselves are not kept."""
     n_hd, m = values.size, slot_cells.size
     rec = _recurrent_drive(W_slots, slot, v, n_hd, m)
+    v_slotted, W_slotted = v[slot_cells], W[slot_cells]
     for k in range(n_hd):
         num = total = 0.0
         for c in range(m):
-            x = np.float64(rec[k, c]) - v[slot_cells[c]]
-            if x > 0.0:
-                x = math.tanh(x)
-                num += W[slot_cells[c]] * x
-                total += x
+            if rec[k, c] > 0.0:  # (most cells get no recurrent drive: skip them before the float64 arithmetic)
+                x = np.float64(rec[k, c]) - v_slotted[c]
+                if x > 0.0:
+                    x = math.tanh(x)
+                    num += W_slotted[c] * x
+                    total += x
         values[k] = num / total if total > 0.0 else 0.0
 
 
