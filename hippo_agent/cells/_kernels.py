@@ -5,7 +5,10 @@ method's comments, touching only the cells that matter (active, traced, holding 
 BVCs), in plain IEEE arithmetic: no fused multiply-adds, no fast-math reordering of sums. ``exp``
 and ``tanh`` are libm's (scalar), called only where the result is needed; where thousands of
 exponentials are needed at once (the BVCs' radial Gaussians, the path integrator's vote) a kernel
-writes the exponents and NumPy's vectorised ``exp``, about 4x faster per value, takes them. ``error_model="numpy"``: a division by 0 gives inf or nan, as in NumPy, not an exception.
+writes the exponents and NumPy's vectorised ``exp``, about 4x faster per value, takes them.
+The per-step kernels write into arrays they are given rather than return new ones (handing an
+array back to Python costs about 0.65 us). ``error_model="numpy"``: a division by 0 gives inf or
+nan, as in NumPy, not an exception.
 """
 
 from __future__ import annotations
@@ -330,10 +333,9 @@ def imagined_rates(W_slots, slot, slot_cells, v, out):  # pragma: no cover - com
     (Every other cell's imagined rate is 0: it has no recurrent drive and ``[0 - v_i]+ = 0``.)"""
     n_hd, m = out.shape
     rec = _recurrent_drive(W_slots, slot, v, n_hd, m)
-    for c in range(m):
-        vc = v[slot_cells[c]]
-        for k in range(n_hd):
-            out[k, c] = _maximum0(np.float64(rec[k, c]) - vc)
+    for k in range(n_hd):
+        for c in range(m):
+            out[k, c] = _maximum0(np.float64(rec[k, c]) - v[slot_cells[c]])
     _tanh_positive(out.reshape(-1))
 
 
