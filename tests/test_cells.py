@@ -320,8 +320,8 @@ def test_bvc_drive_is_the_float64_product_to_float32_precision():
 
 
 @pytest.mark.parametrize("n_firing", [0, 1, 7, 8, 399])
-def test_bvc_drive_sums_row_after_row_in_float32_across_tiles(n_firing):
-    n = 2 * _kernels.DRIVE_TILE + 5  # two full tiles and a short one
+def test_bvc_drive_sums_row_after_row_in_float32(n_firing):
+    n = 4101
     rng = np.random.default_rng(n_firing)
     W_bp = (rng.uniform(0, 1, (400, n)) * (rng.random((400, n)) < 0.4)).astype(np.float32)
     b = np.zeros(400)
