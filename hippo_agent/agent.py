@@ -49,12 +49,17 @@ import numpy as np
 from hippo_agent import analysis, persistence
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells, _kernels
 from hippo_agent.config import AgentConfig
+from hippo_agent.explore import ExplorationMap
 from hippo_env.dmtp import rollout
 from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
 
 PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
+BUMP_DISTANCE = 0.3  # m ahead of the robot's centre: where a bump marks a wall in the exploration map
+RECRUIT_EVERY = 50  # steps between checks of whether the place cells run short (dry run)
+RECRUIT_MIN = 250  # place cells recruited at least at a time
+PLAN_PATIENCE = 3  # steps in a row with nowhere unvisited to go before the sweep counts as done
 
 
 def _describe_space(space: Any) -> str:
@@ -113,6 +118,11 @@ class HippocampalAgent:
         self.place = PlaceCells(c.n_place, self.bvc.n, c.n_hd, self.rng, **c.place_kwargs())
         self.reward = RewardCells(c.n_place)
         self.pi = PathIntegrator(c.pi_particles, self.rng, **c.path_integrator_kwargs())
+        self.map = (
+            ExplorationMap(c.map_extent, c.map_cell, c.visit_radius, c.search_radius, c.explore_lookahead)
+            if c.exploration == "directed"
+            else None
+        )
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -130,6 +140,13 @@ class HippocampalAgent:
         self.last_values = np.zeros(c.n_hd)
         self.episode_stats = {"explore": 0, "exploit": 0, "bumps": 0, "replays": 0}
         self.total_steps = 0
+        # the directed dry run: "sweep" (to unvisited ground), then "transit", then "done"
+        self.dry_stage = "sweep"
+        self.sweep_steps = 0  # steps the sweep took
+        self.transit_left = 0  # transit steps still to go
+        self.transit_target = -1  # the current transit's destination (a map cell), -1 = none
+        self.plan_failures = 0  # consecutive steps with nowhere to go
+        self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
 
     # ================================================================== spaces
     @staticmethod
@@ -181,25 +198,35 @@ class HippocampalAgent:
 
     # ================================================================== protocol
     def dry_run(self, env: Any) -> None:
-        """The dry run: explore goal-free for ``config.dry_run_steps`` steps, only eq. 5 plastic.
+        """The dry run: goal-free exploration with no reward learning.
 
-        Resets ``env`` with ``options={"goal": None}`` (and again whenever it truncates).
+        With ``exploration="random"``, ``config.dry_run_steps`` steps of random exploration. With
+        ``"directed"``, a sweep to every place the map shows but the robot has not been near, then
+        transits across the known ground (``config.transit_factor``), ending when both are done
+        or after ``config.dry_run_steps`` steps. Resets ``env`` with ``options={"goal": None}``
+        (and again whenever it truncates).
         """
         if self.config.dry_run_steps == 0:
             return
         self.phase = "dry"
+        self.dry_stage = "sweep"
+        self.sweep_steps = self.transit_left = self.plan_failures = 0
+        self.transit_target = -1
         try:
             obs, info = env.reset(options={"goal": None})
             self.reset(obs, info)
             remaining = self.config.dry_run_steps
-            while remaining > 0:
-                end = rollout(env, self, obs, max_steps=remaining)
+            while remaining > 0 and self.dry_stage != "done":
+                end = rollout(env, self, obs, max_steps=remaining, keep_going=lambda: self.dry_stage != "done")
                 remaining -= end.steps
                 obs = end.observation
                 if end.terminated or end.truncated:
                     obs, info = env.reset(options={"goal": None})
                     self.reset(obs, info)
+            if self.map is not None and self.config.learn_pp_in_dry_run:
+                self.rest()
         finally:
+            self.codes = {}
             self.phase = "trial"
             self.started = False
 
@@ -233,6 +260,8 @@ class HippocampalAgent:
             self.place.step(b, self.config.settle_steps)
         self.place.update_hd_trace(h)
         self.reward.reset_effective()
+        if self.map is not None:
+            self.map.new_run()
         self.heading = heading
         self._new_segment(heading)
         self.last_decision = "explore"
@@ -246,12 +275,13 @@ class HippocampalAgent:
         if not self.started:
             self.reset(observation, {})
         heading = None
-        if self.escape_left > 0:
+        escaping = self.escape_left > 0
+        if escaping:
             self.escape_left -= 1
         elif self.phase == "trial":
             heading = self._exploit_heading()
         if heading is None:
-            heading = self._explore_heading()
+            heading = self._random_heading() if escaping else self._explore_heading()
             self.last_decision = "explore"
         else:
             self.last_decision = "exploit"
@@ -294,11 +324,20 @@ class HippocampalAgent:
         if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
             self.place.learn_pp()
         self.place.update_trace()
+        if self.map is not None and self.pi.anchored:
+            self.map.observe(self.pi.estimate, heading, ranges, self.max_range)
+            if dry:
+                if self.total_steps % RECRUIT_EVERY == 0:
+                    self._recruit()
+                active = np.flatnonzero(self.place.v > 0.0)
+                self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, self.place.v[active])
+            if collision:
+                self.map.mark_bump(self.pi.estimate, heading, BUMP_DISTANCE)
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
             self.intended_heading = float(self.rng.uniform(-math.pi, math.pi))
             self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
-            if self.last_decision == "exploit":
+            if self.last_decision == "exploit" or self.map is not None:
                 self.escape_left = c.bump_escape_steps
         if reward > 0 and not dry:
             self.learn_reward()
@@ -364,6 +403,116 @@ class HippocampalAgent:
         self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
 
     def _explore_heading(self) -> float:
+        """Directed exploration where the map can plan (:meth:`_directed_heading`), else straight
+        segments of ``segment_min..segment_max`` steps, then a N(0, sigma) turn."""
+        if self.map is not None and self.pi.anchored:
+            heading = self._directed_heading()
+            if heading is not None:
+                self.intended_heading = heading
+                return heading
+        return self._random_heading()
+
+    def _directed_heading(self) -> float | None:
+        """Where the map says to go next, or ``None`` for a random step.
+
+        Dry run: the sweep heads for the nearest ground not yet visited; once none is reachable
+        (for ``PLAN_PATIENCE`` steps in a row) transits to random visited places follow, for
+        ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
+        ground not searched in this run.
+        """
+        here = self.pi.estimate
+        if self.phase != "dry":
+            return self.map.heading_to_unvisited(here, this_run=True)
+        if self.dry_stage == "sweep":
+            heading = self.map.heading_to_unvisited(here)
+            self.sweep_steps += 1
+            if heading is not None:
+                self.plan_failures = 0
+                return heading
+            self.plan_failures += 1
+            if self.plan_failures < PLAN_PATIENCE:
+                return None
+            self.dry_stage = "transit"
+            self.transit_left = math.ceil(self.config.transit_factor * self.sweep_steps)
+        if self.transit_left <= 0:
+            self.dry_stage = "done"
+            return None
+        self.transit_left -= 1
+        heading = self.map.heading_to(here, self.transit_target) if self.transit_target >= 0 else None
+        if heading is None:  # arrived, or the destination cannot be reached: a new one
+            self.transit_target = self._transit_destination(here)
+            heading = self.map.heading_to(here, self.transit_target) if self.transit_target >= 0 else None
+        return heading
+
+    def _transit_destination(self, here: np.ndarray) -> int:
+        """A random visited place at least ``transit_min_distance`` away along the known ground
+        (a map cell's flat index), or -1 if there is none."""
+        cells, steps = self.map.reachable_visited(here)
+        far = cells[steps * self.config.map_cell >= self.config.transit_min_distance]
+        if far.size == 0:
+            return -1
+        return int(far[self.rng.integers(far.size)])
+
+    def _recruit(self) -> None:
+        """Recruit place cells up to ``place_cells_per_m2`` of the free ground the map knows
+        (at least ``RECRUIT_MIN`` at a time, at most ``max_place_cells`` in all)."""
+        c = self.config
+        wanted = min(math.ceil(c.place_cells_per_m2 * self.map.explored_area()), c.max_place_cells)
+        if wanted > self.place.n:
+            self.grow_place_cells(min(max(wanted - self.place.n, RECRUIT_MIN), c.max_place_cells - self.place.n))
+
+    def grow_place_cells(self, extra: int) -> None:
+        """Add ``extra`` place cells (:meth:`PlaceCells.grow`) and their reward weights."""
+        self.place.grow(extra, self.rng)
+        self.reward.grow(extra)
+
+    def rest(self) -> None:
+        """Imagined transits at rest, after the directed dry run: sequences of remembered place
+        codes along shortest paths across the map, between random visited places, with the
+        place-place rule (eq. 7) on. Nothing moves: no environment step is taken.
+
+        Rats replay, at rest, sequences through places they know, including routes they never
+        ran (shortcuts). Here the sequence is read from the map: every ``imagined_step`` metres
+        along the path, the place code the dry run last saw in that map cell (cells without one
+        are passed over). ``rest_factor`` imagined steps per step of the sweep. Why: one sweep lays
+        place-place links along one path only; replay then spreads value along the sweep's
+        lanes, not along direct routes, and links laid by walking direct routes (transits) are
+        what made later runs direct, at the cost of environment steps.
+        """
+        c = self.config
+        budget = round(c.rest_factor * self.sweep_steps)
+        if budget <= 0 or not self.codes:
+            return
+        place = self.place
+        saved = place.v, place.trace, place.hd_trace
+        remembered = np.fromiter(self.codes.keys(), dtype=np.int64)
+        try:
+            while budget > 0:
+                start = self.map.centre(int(remembered[self.rng.integers(remembered.size)]))
+                target = self._transit_destination(np.asarray(start))
+                if target < 0:
+                    break
+                path = np.array([self.map.centre(cell) for cell in self.map.path(np.asarray(start), target)])
+                lengths = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))))
+                along = np.arange(0.0, lengths[-1], c.imagined_step)
+                points = np.column_stack([np.interp(along, lengths, path[:, 0]), np.interp(along, lengths, path[:, 1])])
+                place.trace = np.zeros(place.n)
+                place.hd_trace = np.zeros(place.n_hd)
+                for k in range(1, points.shape[0]):
+                    code = self.codes.get(self.map.flat_index(*points[k]))
+                    if code is None:
+                        continue
+                    dx, dy = points[k] - points[k - 1]
+                    place.v = np.zeros(place.n)
+                    place.v[code[0]] = code[1]
+                    place.update_hd_trace(self.hd.rates_for(np.array([dx, dy]) / math.hypot(dx, dy)))
+                    place.learn_pp()  # eq. 7
+                    place.update_trace()  # eq. 6
+                    budget -= 1
+        finally:
+            place.v, place.trace, place.hd_trace = saved
+
+    def _random_heading(self) -> float:
         """Straight segments of ``segment_min..segment_max`` steps, then a N(0, sigma) turn."""
         c = self.config
         if self.segment_left <= 0:

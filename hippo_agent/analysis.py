@@ -20,7 +20,7 @@ def place_field_map(agent: Any, env: Any, positions: np.ndarray, heading: float 
     rejects (inside an obstacle) get NaN rows.
     """
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-    out = np.full((len(positions), agent.config.n_place), np.nan)
+    out = np.full((len(positions), agent.place.n), np.nan)
     base = env.unwrapped
     offset = agent.frame_offset(env) if agent.config.path_integration else None
     for n, pos in enumerate(positions):

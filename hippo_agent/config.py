@@ -170,11 +170,52 @@ class AgentConfig:
     closest. Used for exploration and exploitation alike (tuned: ``"nearest"`` did far worse:
     exploitation then moves on a lattice of 8 headings and overshoots)."""
 
+    exploration: Literal["random", "directed"] = "directed"
+    """How the agent explores. ``"random"``: the paper's straight segments and random turns.
+    ``"directed"``: toward what its map (:mod:`hippo_agent.explore`, built from its own rangefinder
+    and path integration) does not know yet: in the dry run the nearest ground not yet visited,
+    in a run the nearest ground not yet searched in that run. Needs ``path_integration``; until a
+    run's estimate is anchored, and after a bump, the agent explores at random."""
+    map_extent: float = 45.0
+    """The exploration map covers this many metres each way around the frame's origin (the dry
+    run's first position): room for a 40 m arena from any start."""
+    map_cell: float = 0.25
+    """Side (m) of an exploration map cell; the robot (0.17 m radius) fits in one."""
+    visit_radius: float = 0.7
+    """Ground within this distance (m) of the robot counts as visited: the dry run's sweep runs
+    lanes about this far apart."""
+    search_radius: float = 0.6
+    """Ground within this distance (m) counts as searched in a run, whose lanes are then about
+    this far apart: twice the goal disk's radius, so a run that has searched everywhere has
+    passed over the goal."""
+    explore_lookahead: float = 0.75
+    """Directed exploration heads for the point this far (m) along its planned path."""
+    transit_factor: float = 1.0
+    """Directed dry run: once nothing unvisited is reachable, cross the known ground along
+    shortest paths between random visited places for this many times the steps the sweep took,
+    so that the place-place links (eq. 7) run along direct routes, not only along the one path of
+    the sweep (feasibility: one sweep alone left replay too weak)."""
+    rest_factor: float = 5.0
+    """After the directed dry run, imagined transits at rest (``HippocampalAgent.rest``): this
+    many imagined steps per step of the sweep, taking no environment step."""
+    imagined_step: float = 0.15
+    """Metres between the remembered place codes of an imagined transit: one step's travel."""
+    place_cells_per_m2: float = 10.0
+    """Directed dry run: place cells are recruited so that there are at least this many per
+    square metre of free ground the exploration map knows (up to ``max_place_cells``): a larger
+    arena gets more cells. 10 keeps the 1000 cells of a 10 m arena (96 m^2 free), where they
+    were tuned, and gives a 20 m arena about 3,800 (1000 cells saturated there: almost every
+    one had fired)."""
+    max_place_cells: int = 16000
+    """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
+    transit_min_distance: float = 3.0
+    """A transit's destination lies at least this far (m, along the path) from where it starts."""
+
     # ---------------------------------------------------------------- schedule
-    dry_run_steps: int = 5000
-    """Goal-free steps in ``dry_run`` with only BVC -> place learning on (paper: a dry run;
-    model-figures: about 25,000 updates; feasibility: 5,000 works almost as well; the README's
-    dry-run length table measures shorter ones)."""
+    dry_run_steps: int = 10000
+    """Goal-free steps in ``dry_run``. With ``exploration="random"``, exactly this many (paper: a
+    dry run; model-figures: about 25,000 updates; feasibility: 5,000 works almost as well). With
+    ``"directed"``, at most this many: the dry run ends once the sweep and its transits are done."""
     learn_pb_in_trials: bool = True
     """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
     exploration; model-figures: learning stays on in runs 2-4)."""
@@ -231,7 +272,7 @@ class AgentConfig:
     def paper(cls, **changes: Any) -> AgentConfig:
         """The model as the paper describes it: no path integration (the compass and the
         rangefinder only), no place-place learning in the dry run; the rest as the defaults."""
-        return cls(**{"path_integration": False, "learn_pp_in_dry_run": False, "dry_run_steps": 5000, **changes})
+        return cls(**{"path_integration": False, "learn_pp_in_dry_run": False, "exploration": "random", "dry_run_steps": 5000, **changes})
 
     def __post_init__(self) -> None:
         def bad(name: str, allowed: str) -> ValueError:
@@ -303,6 +344,15 @@ class AgentConfig:
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
+        if self.exploration not in ("random", "directed"):
+            raise bad("exploration", "'random' or 'directed'")
+        if self.exploration == "directed" and not self.path_integration:
+            raise bad("exploration", "'random' when path_integration is False (directed exploration maps in the path-integration frame)")
+        positive("map_extent", "map_cell", "visit_radius", "search_radius", "explore_lookahead")
+        non_negative("transit_factor", "transit_min_distance", "rest_factor")
+        positive("imagined_step")
+        non_negative("place_cells_per_m2")
+
         if self.discrete_rounding not in ("stochastic", "nearest"):
             raise bad("discrete_rounding", "'stochastic' or 'nearest'")
 

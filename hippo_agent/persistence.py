@@ -18,7 +18,7 @@ from hippo_agent.config import AgentConfig
 __all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 3  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads
+FORMAT_VERSION = 4  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads; 4: the exploration map, recruited cells
 ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
 
 # Every saved array: its name in the file -> (the agent's part holding it, the attribute).
@@ -45,6 +45,8 @@ ARRAY_HOME: dict[str, tuple[str, str]] = {
     "pi_last_step": ("pi", "last_step"),
 }
 ARRAYS = (*ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+# The exploration map's grids (directed exploration only): name in the file -> the map's attribute.
+MAP_ARRAYS = {"map_free": "free", "map_hits": "hits", "map_visited": "visited", "map_searched": "searched"}
 # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
 STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("phase", str),
@@ -85,6 +87,7 @@ def save(agent: Any, path: str | os.PathLike) -> None:
         "config": agent.config.to_dict(),
         "seed": agent.seed,
         "observation": {"n_rays": agent.n_rays, "max_range": agent.max_range, "odometry": agent.has_odometry},
+        "place_cells": agent.place.n,
         "action": {"kind": agent.action_kind, "n": agent.n_actions},
         "rng_state": agent.rng.bit_generator.state,
         "rng_kind": type(agent.rng.bit_generator).__name__,
@@ -96,6 +99,8 @@ def save(agent: Any, path: str | os.PathLike) -> None:
     arrays = {name: getattr(target, attr) for name, target, attr in _array_slots(agent)}
     arrays["W_pp_slots"] = agent.place.W_pp_used  # the compact W_pp (see PlaceCells)
     arrays["W_pp_cells"] = agent.place.slot_cells
+    if agent.map is not None:
+        arrays.update({name: getattr(agent.map, attr) for name, attr in MAP_ARRAYS.items()})
     with open(path, "wb") as f:
         np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
 
@@ -113,6 +118,7 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             if missing:
                 raise ValueError(f"{what}: arrays {missing} are missing")
             arrays = {k: data[k] for k in ARRAYS}
+            arrays.update({k: data[k] for k in MAP_ARRAYS if k in data.files})
     except ValueError as exc:
         if str(exc).startswith(what):
             raise
@@ -138,15 +144,26 @@ def load(cls: type, path: str | os.PathLike) -> Any:
         else:
             act_space = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
         agent = cls(obs_space, act_space, config, seed=meta["seed"])
+        recruited = int(meta["place_cells"]) - config.n_place
+        if recruited < 0 or recruited > max(config.max_place_cells - config.n_place, 0):
+            raise ValueError(f"place_cells={meta['place_cells']!r} does not fit n_place={config.n_place}, max_place_cells={config.max_place_cells}")
+        if recruited:
+            agent.grow_place_cells(recruited)  # (the generator's state is restored below)
         for name, target, attr in _array_slots(agent):
             ref, arr = getattr(target, attr), arrays[name]
-            ok = (arr.ndim == 2 and arr.shape[1] == config.n_place) if name == "W_rp" else arr.shape == ref.shape
+            ok = (arr.ndim == 2 and arr.shape[1] == agent.place.n) if name == "W_rp" else arr.shape == ref.shape
             if not ok or not np.all(np.isfinite(arr)):
                 raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
             setattr(target, attr, arr.astype(ref.dtype))
         if not np.all(np.isfinite(arrays["W_pp_slots"])):
             raise ValueError("array 'W_pp_slots' has non-finite values")
         agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
+        if agent.map is not None:
+            for name, attr in MAP_ARRAYS.items():
+                ref = getattr(agent.map, attr)
+                if name not in arrays or arrays[name].shape != ref.shape:
+                    raise ValueError(f"the exploration map's array {name!r} is missing or not of shape {ref.shape}")
+                setattr(agent.map, attr, arrays[name].astype(ref.dtype))
         if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
             raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
         agent.rng.bit_generator.state = meta["rng_state"]

@@ -191,5 +191,5 @@ def test_file_is_a_plain_npz_with_json_metadata(tmp_path):
     assert zipfile.is_zipfile(tmp_path / "a.npz")
     with np.load(tmp_path / "a.npz", allow_pickle=False) as data:
         meta = json.loads(str(data["__meta__"]))
-    assert meta["format"] == FORMAT_TAG and meta["version"] == 3
+    assert meta["format"] == FORMAT_TAG and meta["version"] == 4
     assert meta["config"]["n_place"] == 300

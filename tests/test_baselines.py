@@ -83,7 +83,7 @@ class TestRegistry:
     def test_hippo_asks_the_runner_for_odometry_and_hippo_paper_does_not(self):
         assert agent_factory("hippo").env_kwargs == {"odometry": True}
         assert agent_factory("hippo-paper").env_kwargs == {}
-        assert agent_factory("hippo", path_integration=False).env_kwargs == {}
+        assert agent_factory("hippo", path_integration=False, exploration="random").env_kwargs == {}
         result = run_dmtp(
             agent_factory("hippo", n_place=200, dry_run_steps=100), "open", trials=1, runs=1, seed=0, max_episode_steps=200, progress=False
         )

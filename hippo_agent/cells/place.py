@@ -77,6 +77,7 @@ class PlaceCells:
         self.eta_pb, self.alpha_pb = eta_pb, alpha_pb
         self.trace_rate, self.hd_trace_rate, self.trace_floor = trace_rate, hd_trace_rate, trace_floor
         self.eta_pp = eta_pp
+        self.p_pb = p_pb
         # W_pb(0) binary, 1 with probability p_pb (paper, eq. 5)
         self.W_pb = (rng.random((self.n, self.n_bvc)) < p_pb).astype(np.float32)
         # W_pp(0) = 0 (eq. 7): no slots yet
@@ -95,6 +96,21 @@ class PlaceCells:
         self.spread = np.zeros(self.n)  # m^2: how far from its centre the boundary code alone fires the cell
         self.spread_mass = np.zeros(self.n)
         self._vote = (np.empty(self.n), np.empty((self.n, 2)), np.empty(self.n))  # scratch for sensory_vote
+
+    def grow(self, extra: int, rng: np.random.Generator) -> None:
+        """Recruit ``extra`` new cells: binary ``W_pb`` rows as at the start (eq. 5), everything
+        else zero (no centre, no ``W_pp`` slot), at rest."""
+        new_rows = (rng.random((extra, self.n_bvc)) < self.p_pb).astype(np.float32)
+        self.W_bp = np.ascontiguousarray(np.concatenate([self.W_bp, new_rows.T], axis=1))
+        self.n += int(extra)
+
+        def longer(a: np.ndarray, fill: float = 0.0) -> np.ndarray:
+            return np.concatenate([a, np.full((extra, *a.shape[1:]), fill, dtype=a.dtype)])
+
+        self.slot = longer(self.slot, -1)
+        for name in ("s", "v", "trace", "s_sense", "v_sense", "centres", "centre_mass", "spread", "spread_mass"):
+            setattr(self, name, longer(getattr(self, name)))
+        self._vote = (np.empty(self.n), np.empty((self.n, 2)), np.empty(self.n))
 
     @property
     def W_pb(self) -> np.ndarray:

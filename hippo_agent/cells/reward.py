@@ -107,6 +107,12 @@ class RewardCells:
         """Index of the current goal's cell (``-1`` if none)."""
         return self.n - 1
 
+    def grow(self, extra: int) -> None:
+        """Room for ``extra`` more place cells, with zero weights."""
+        self.n_place += int(extra)
+        self.W_rp = np.concatenate([self.W_rp, np.zeros((self.n, extra))], axis=1)
+        self.W_eff = np.concatenate([self.W_eff, np.zeros(extra)])
+
     def add_goal(self) -> int:
         """Add a reward cell for a new goal; return its index."""
         self.W_rp = np.vstack([self.W_rp, np.zeros((1, self.n_place))])

@@ -1,0 +1,331 @@
+"""Directed exploration: a map of what the rangefinder has shown, and a planner that heads for
+what the map does not know yet.
+
+Rats do not random-walk a new place: they explore it systematically. This module gives the
+agent that ability from its own senses only: the rangefinder scan, the compass, and the
+path-integration estimate (:mod:`hippo_agent.cells.path_integration`), never the true position.
+
+The map is a grid in the path-integration frame (``cell`` metres a side) holding, per cell,
+
+- how often a ray passed through it (*free*) and how often a ray ended in it (*hits*): a cell
+  hit at least as often as passed is a wall;
+- whether the robot has ever been within ``visit_radius`` of it (*visited*), and whether it has
+  been within ``search_radius`` of it in the current run (*searched*).
+
+A cell is *walkable* when it is known free and no wall lies within one cell of it (the robot's
+radius, 0.17 m, fits inside a 0.25 m cell). The planner runs a breadth-first search over walkable
+cells from the robot's cell and heads ``lookahead`` metres along the path to
+
+- the nearest walkable cell not yet visited (:meth:`ExplorationMap.heading_to_unvisited`: the
+  dry run's sweep), or not yet searched in this run (the search for a hidden goal), or
+- a given cell (:meth:`ExplorationMap.heading_to`: a transit across known ground).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["ExplorationMap"]
+
+FREE_RANGE = 4.0  # m: a ray marks cells free up to here (far cells are seen at too coarse an angle)
+HIT_RANGE = 6.0  # m: a ray ending nearer than this marks a wall
+RAY_STRIDE_DEG = 5.0  # one ray of the scan every this many degrees enters the map
+
+
+class ExplorationMap:
+    """The occupancy and visit map in the path-integration frame, and the planner (module docstring).
+
+    Args:
+        extent: the map covers ``[-extent, extent]`` metres on both axes around the frame's origin.
+        cell: grid cell side (m).
+        visit_radius: cells within this distance (m) of the robot count as visited.
+        search_radius: cells within this distance (m) count as searched in the current run.
+        lookahead: the planner heads for the point this far (m) along its path.
+    """
+
+    def __init__(self, extent: float, cell: float, visit_radius: float, search_radius: float, lookahead: float) -> None:
+        self.extent = float(extent)
+        self.cell = float(cell)
+        self.visit_radius = float(visit_radius)
+        self.search_radius = float(search_radius)
+        self.lookahead_cells = max(1, round(lookahead / cell))
+        n = math.ceil(2 * self.extent / self.cell)
+        self.n = n
+        self.free = np.zeros((n, n), dtype=np.uint16)
+        self.hits = np.zeros((n, n), dtype=np.uint16)
+        self.visited = np.zeros((n, n), dtype=np.bool_)
+        self.searched = np.zeros((n, n), dtype=np.bool_)
+        # scratch for the search: a stamp per cell (which search reached it), its parent, a queue
+        self._stamp = np.zeros(n * n, dtype=np.int32)
+        self._parent = np.zeros(n * n, dtype=np.int32)
+        self._queue = np.zeros(n * n, dtype=np.int32)
+        self._search_id = np.zeros(1, dtype=np.int32)
+
+    # ------------------------------------------------------------------ senses
+    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> None:
+        """Enter one scan (egocentric ``ranges``, ray ``i`` at ``heading + 2 pi i / n``) seen from
+        ``position`` (frame metres), and mark the cells around ``position`` visited and searched."""
+        n_rays = ranges.size
+        stride = max(1, round(n_rays * RAY_STRIDE_DEG / 360.0))
+        _enter_scan(
+            self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
+            float(max_range), self.extent, self.cell, FREE_RANGE, HIT_RANGE,
+        )  # fmt: skip
+        _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
+        _mark_disk(self.searched, float(position[0]), float(position[1]), self.search_radius, self.extent, self.cell)
+
+    def mark_bump(self, position: np.ndarray, heading: float, distance: float) -> None:
+        """A bump: the cell ``distance`` ahead is a wall, whatever the rays said."""
+        i, j = self.index(position[0] + distance * math.cos(heading), position[1] + distance * math.sin(heading))
+        if 0 <= i < self.n and 0 <= j < self.n:
+            self.hits[i, j] = min(int(self.hits[i, j]) + int(self.free[i, j]) + 1, 65535)
+
+    def new_run(self) -> None:
+        """Forget which cells were searched: a new run searches afresh."""
+        self.searched[:] = False
+
+    # ------------------------------------------------------------------ planning
+    def heading_to_unvisited(self, position: np.ndarray, this_run: bool = False) -> float | None:
+        """The heading (rad) toward the nearest walkable cell not yet visited (``this_run``: not
+        yet searched in this run); ``None`` if no such cell can be reached. The sweep's lanes come
+        out about a marking radius apart."""
+        return self._plan(position, self.searched if this_run else self.visited, -1)
+
+    def heading_to(self, position: np.ndarray, target: int) -> float | None:
+        """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
+        if it cannot be reached or the robot is there."""
+        return self._plan(position, self.visited, int(target))
+
+    def reachable_visited(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Flat indices of the visited walkable cells reachable from ``position``, and their path
+        lengths in cells (for choosing transits)."""
+        i, j = self.index(*position)
+        self._search_id[0] += 1
+        cells, steps = _reachable(self.free, self.hits, self.visited, i, j, self._stamp, self._parent, self._queue, self._search_id[0])
+        return cells, steps
+
+    def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None) -> np.ndarray:
+        """Flat indices of the cells along the shortest walkable path from ``position`` to the cell
+        ``target`` (``-1``: to the nearest walkable cell that ``known`` does not hold); empty if
+        there is none."""
+        i, j = self.index(*position)
+        self._search_id[0] += 1
+        known = self.visited if known is None else known
+        found = _search(self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0])
+        return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
+
+    def _plan(self, position: np.ndarray, known: np.ndarray, target: int) -> float | None:
+        path = self.path(position, target, known)
+        if path.size < 2:
+            return None
+        wx, wy = self.centre(path[min(self.lookahead_cells, path.size - 1)])
+        return math.atan2(wy - position[1], wx - position[0])
+
+    # ------------------------------------------------------------------ measures
+    def index(self, x: float, y: float) -> tuple[int, int]:
+        """The (row, column) of the cell holding frame point (x, y); row = x."""
+        return math.floor((x + self.extent) / self.cell), math.floor((y + self.extent) / self.cell)
+
+    def flat_index(self, x: float, y: float) -> int:
+        """The flat index of the cell holding frame point (x, y)."""
+        i, j = self.index(x, y)
+        return i * self.n + j
+
+    def centre(self, flat: int) -> tuple[float, float]:
+        """The frame coordinates of a cell's centre, from its flat index."""
+        i, j = divmod(int(flat), self.n)
+        return (i + 0.5) * self.cell - self.extent, (j + 0.5) * self.cell - self.extent
+
+    @property
+    def known_free(self) -> np.ndarray:
+        """Cells the rays have shown free (a boolean grid)."""
+        return (self.free > 0) & (self.hits < self.free)
+
+    def explored_area(self) -> float:
+        """Square metres of free ground the map knows."""
+        return float(np.count_nonzero(self.known_free)) * self.cell**2
+
+
+# ---------------------------------------------------------------------------- compiled loops
+@njit(cache=True)
+def _enter_scan(free, hits, x, y, heading, ranges, stride, max_range, extent, cell, free_range, hit_range):  # pragma: no cover - compiled
+    """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit."""
+    n = free.shape[0]
+    n_rays = ranges.size
+    step = cell * 0.5
+    for r in range(0, n_rays, stride):
+        angle = heading + 2.0 * math.pi * r / n_rays
+        c, s = math.cos(angle), math.sin(angle)
+        d = float(ranges[r])
+        reach = min(d - step, free_range)
+        t = 0.0
+        last_i, last_j = -1, -1
+        while t < reach:
+            i = math.floor((x + t * c + extent) / cell)
+            j = math.floor((y + t * s + extent) / cell)
+            if i < 0 or j < 0 or i >= n or j >= n:
+                break
+            if i != last_i or j != last_j:
+                if free[i, j] < 65535:
+                    free[i, j] += 1
+                last_i, last_j = i, j
+            t += step
+        if d < hit_range and d < max_range * 0.999:
+            i = math.floor((x + d * c + extent) / cell)
+            j = math.floor((y + d * s + extent) / cell)
+            if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535:
+                hits[i, j] += 1
+
+
+@njit(cache=True)
+def _mark_disk(grid, x, y, radius, extent, cell):  # pragma: no cover - compiled
+    n = grid.shape[0]
+    ci = (x + extent) / cell
+    cj = (y + extent) / cell
+    r = radius / cell
+    for i in range(max(0, int(ci - r) - 1), min(n, int(ci + r) + 2)):
+        for j in range(max(0, int(cj - r) - 1), min(n, int(cj + r) + 2)):
+            if (i + 0.5 - ci) ** 2 + (j + 0.5 - cj) ** 2 <= r * r:
+                grid[i, j] = True
+
+
+@njit(cache=True)
+def _is_wall(free, hits, i, j):  # pragma: no cover - compiled
+    return hits[i, j] > 0 and hits[i, j] >= free[i, j]
+
+
+@njit(cache=True)
+def _walkable(free, hits, i, j):  # pragma: no cover - compiled
+    """Known free, and no wall in the 3 x 3 block around it."""
+    n = free.shape[0]
+    if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+        return False
+    if free[i, j] == 0 or _is_wall(free, hits, i, j):
+        return False
+    for di in range(-1, 2):
+        for dj in range(-1, 2):
+            if _is_wall(free, hits, i + di, j + dj):
+                return False
+    return True
+
+
+@njit(cache=True)
+def _passable(free, hits, i, j, near_start):  # pragma: no cover - compiled
+    """Walkable, or (within two steps of the start) at least free and not a wall."""
+    if _walkable(free, hits, i, j):
+        return True
+    n = free.shape[0]
+    return near_start and 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
+
+
+@njit(cache=True)
+def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):  # pragma: no cover - compiled
+    """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
+    ``target`` (a flat index) or, if ``target < 0``, to the nearest walkable cell that ``known``
+    does not hold. Returns the flat index of the cell found (its path back to the start through
+    ``parent``), or -1 if there is none (or the robot is there)."""
+    n = free.shape[0]
+    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
+        return -1
+    start = i0 * n + j0
+    stamp[start] = search_id
+    parent[start] = -1
+    head, tail = 0, 1
+    queue[0] = start
+    found = -1
+    while head < tail:
+        cur = queue[head]
+        head += 1
+        ci, cj = cur // n, cur % n
+        # a robot beside a wall stands on cells that are not walkable: leave them by free ones
+        near = cur == start or parent[cur] == start
+        if cur != start:
+            if target >= 0:
+                if cur == target:
+                    found = cur
+                    break
+            elif not known[ci, cj] and _walkable(free, hits, ci, cj):
+                found = cur
+                break
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                if di == 0 and dj == 0:
+                    continue
+                a, b = ci + di, cj + dj
+                nxt = a * n + b
+                if stamp[nxt] == search_id or not _passable(free, hits, a, b, near):
+                    continue
+                if di != 0 and dj != 0 and not (_passable(free, hits, ci + di, cj, near) and _passable(free, hits, ci, cj + dj, near)):
+                    continue
+                stamp[nxt] = search_id
+                parent[nxt] = cur
+                queue[tail] = nxt
+                tail += 1
+    return found
+
+
+@njit(cache=True)
+def _path_to(parent, found):  # pragma: no cover - compiled
+    """The flat indices from the search's start to ``found``, in order."""
+    length = 0
+    cur = found
+    while parent[cur] != -1:
+        length += 1
+        cur = parent[cur]
+    path = np.empty(length + 1, dtype=np.int64)
+    cur = found
+    for k in range(length, -1, -1):
+        path[k] = cur
+        cur = parent[cur]
+    return path
+
+
+@njit(cache=True)
+def _reachable(free, hits, visited, i0, j0, stamp, parent, queue, search_id):  # pragma: no cover - compiled
+    """Every walkable cell reachable from (i0, j0) that ``visited`` holds, with its path length."""
+    n = free.shape[0]
+    cells = np.empty(0, dtype=np.int64)
+    steps = np.empty(0, dtype=np.int64)
+    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
+        return cells, steps
+    start = i0 * n + j0
+    stamp[start] = search_id
+    parent[start] = 0  # here: the path length in steps
+    head, tail = 0, 1
+    queue[0] = start
+    while head < tail:
+        cur = queue[head]
+        head += 1
+        ci, cj = cur // n, cur % n
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                if di == 0 and dj == 0:
+                    continue
+                a, b = ci + di, cj + dj
+                nxt = a * n + b
+                if stamp[nxt] == search_id or not _walkable(free, hits, a, b):
+                    continue
+                if di != 0 and dj != 0 and not (_walkable(free, hits, ci + di, cj) and _walkable(free, hits, ci, cj + dj)):
+                    continue
+                stamp[nxt] = search_id
+                parent[nxt] = parent[cur] + 1
+                queue[tail] = nxt
+                tail += 1
+    count = 0
+    for k in range(tail):
+        c = queue[k]
+        if visited[c // n, c % n]:
+            count += 1
+    cells = np.empty(count, dtype=np.int64)
+    steps = np.empty(count, dtype=np.int64)
+    m = 0
+    for k in range(tail):
+        c = queue[k]
+        if visited[c // n, c % n]:
+            cells[m] = c
+            steps[m] = parent[c]
+            m += 1
+    return cells, steps

@@ -1,0 +1,130 @@
+"""Directed exploration: the map, the planner, the adaptive dry run, imagined transits, recruitment."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent.explore import ExplorationMap
+from hippo_env.dmtp import _CountingEnv
+from hippo_env.maze import MazeSpec
+from hippo_env.physics import ROBOT_RADIUS
+
+
+def ring_scan(n_rays: int = 720, radius: float = 2.0) -> np.ndarray:
+    """What a robot at the centre of a round room of ``radius`` sees."""
+    return np.full(n_rays, radius, dtype=np.float32)
+
+
+def test_scan_marks_free_ground_and_walls():
+    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
+    free = m.known_free
+    for x, y in [(0.0, 0.0), (1.0, 0.0), (0.0, -1.5), (-1.0, 1.0)]:
+        assert free[m.index(x, y)], (x, y)
+    for x, y in [(2.0, 0.0), (0.0, 2.0), (-2.0, 0.0), (0.0, -2.0)]:
+        i, j = m.index(x, y)
+        assert m.hits[i, j] > 0 and not free[i, j], (x, y)
+    assert not free[m.index(3.0, 0.0)]  # behind the wall: unknown
+    assert 8.0 < m.explored_area() < math.pi * 2.0**2
+
+
+def test_planner_goes_to_unvisited_ground_until_none_is_left():
+    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
+    assert m.heading_to_unvisited(np.zeros(2)) is not None
+    # stand everywhere in the room: nothing unvisited is left
+    for x in np.arange(-1.6, 1.7, 0.2):
+        for y in np.arange(-1.6, 1.7, 0.2):
+            if math.hypot(x, y) < 1.6:
+                m.observe(np.array([x, y]), 0.0, ring_scan(radius=2.0 - math.hypot(x, y)), max_range=10.0)
+    assert m.heading_to_unvisited(np.zeros(2)) is None
+    # a new run has searched nothing yet
+    m.new_run()
+    assert m.heading_to_unvisited(np.zeros(2), this_run=True) is not None
+
+
+def test_path_goes_around_a_wall():
+    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m.free[:] = 1  # all free ...
+    i0, i1 = m.index(0.0, -3.0)[1], m.index(0.0, 2.0)[1]
+    m.hits[m.index(0.0, 0.0)[0], i0:i1] = 5  # ... but a wall along x = 0 from y = -3 to y = 2
+    target = m.flat_index(2.0, 0.0)
+    path = m.path(np.array([-2.0, 0.0]), target)
+    assert path.size > 0 and path[-1] == target
+    centres = np.array([m.centre(c) for c in path])
+    assert centres[:, 1].max() > 2.0  # it went round the wall's open end
+    assert not any(m.hits[divmod(int(c), m.n)] for c in path)
+
+
+def dry_run(maze: str | MazeSpec = "open", seed: int = 0, **config):
+    env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
+    env.reset(seed=seed, options={"goal": None})
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(**config), seed=seed)
+    positions = []
+
+    class Watch(_CountingEnv):
+        def step(self, action):
+            out = super().step(action)
+            positions.append(out[4]["position"])
+            return out
+
+    counted = Watch(env, allow_goal=False)
+    agent.dry_run(counted)
+    return agent, counted.steps, np.array(positions), env.unwrapped.maze
+
+
+def coverage(spec: MazeSpec, positions: np.ndarray, radius: float = 0.75) -> float:
+    """Share of the free 0.25 m grid the robot's centre came within ``radius`` of (measured from outside)."""
+    half = spec.size[0] / 2
+    grid = np.array([(x, y) for x in np.arange(-half + 0.125, half, 0.25) for y in np.arange(-half + 0.125, half, 0.25)])
+    grid = grid[[spec.clearance(p) >= ROBOT_RADIUS for p in grid]]
+    nearest = np.min(np.hypot(grid[:, None, 0] - positions[None, :, 0], grid[:, None, 1] - positions[None, :, 1]), axis=1)
+    return float(np.mean(nearest <= radius))
+
+
+def test_directed_dry_run_ends_by_itself_with_the_arena_covered():
+    agent, steps, positions, spec = dry_run("open", seed=3)
+    assert agent.dry_stage == "done"
+    assert steps < agent.config.dry_run_steps
+    assert agent.sweep_steps < steps  # the sweep, then transits
+    assert coverage(spec, positions) > 0.95
+
+
+def test_random_dry_run_takes_exactly_its_steps():
+    agent, steps, _, _ = dry_run("open", seed=3, exploration="random", dry_run_steps=300)
+    assert steps == 300 and agent.map is None
+
+
+def test_rest_takes_no_step_and_lays_links():
+    rested, steps_rested, _, _ = dry_run("maze1", seed=2, rest_factor=5.0)
+    awake, steps_awake, _, _ = dry_run("maze1", seed=2, rest_factor=0.0)
+    assert steps_rested == steps_awake
+    assert rested.place.n_slots >= awake.place.n_slots
+    assert np.abs(rested.place.W_pp_used).sum() > np.abs(awake.place.W_pp_used).sum()
+    assert rested.codes == {}  # the dry run's memory of codes is let go
+
+
+def test_recruitment_grows_the_place_cells_with_the_known_ground(tmp_path):
+    agent, _, _, _ = dry_run("open", seed=1, n_place=300, place_cells_per_m2=5.0)
+    assert agent.place.n > 300
+    assert agent.place.n >= 5.0 * agent.map.explored_area() or agent.place.n == agent.config.max_place_cells
+    assert agent.reward.W_rp.shape[1] == agent.place.n
+    agent.save(tmp_path / "grown.npz")
+    loaded = HippocampalAgent.load(tmp_path / "grown.npz")
+    assert loaded.place.n == agent.place.n
+    np.testing.assert_array_equal(loaded.place.W_pb, agent.place.W_pb)
+    np.testing.assert_array_equal(loaded.map.free, agent.map.free)
+    np.testing.assert_array_equal(loaded.map.visited, agent.map.visited)
+
+
+def test_directed_exploration_needs_path_integration():
+    with pytest.raises(ValueError, match="exploration"):
+        AgentConfig(path_integration=False)
+    AgentConfig(path_integration=False, exploration="random")
+    assert AgentConfig.paper().exploration == "random"
