@@ -59,7 +59,8 @@ PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate o
 BUMP_DISTANCE = 0.3  # m ahead of the robot's centre: where a bump marks a wall in the exploration map
 RECRUIT_EVERY = 50  # steps between checks of whether the place cells run short (dry run)
 RECRUIT_MIN = 250  # place cells recruited at least at a time
-PLAN_PATIENCE = 3  # steps in a row with nowhere unvisited to go before the sweep counts as done
+PLAN_PATIENCE = 3
+FIT_RATE = 0.1  # per step: the running mean of the scan's fit to the map spans about 10 steps  # steps in a row with nowhere unvisited to go before the sweep counts as done
 
 
 def _describe_space(space: Any) -> str:
@@ -146,6 +147,8 @@ class HippocampalAgent:
         self.transit_left = 0  # transit steps still to go
         self.transit_target = -1  # the current transit's destination (a map cell), -1 = none
         self.plan_failures = 0  # consecutive steps with nowhere to go
+        self.fit = 1.0  # running mean of how well the scan fits the map at the estimate (runs)
+        self._scan: tuple[np.ndarray, float] | None = None  # the scan being processed: (ranges, heading)
         self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
 
     # ================================================================== spaces
@@ -252,8 +255,10 @@ class HippocampalAgent:
         if self.config.path_integration:
             # put down somewhere: the boundary code alone votes where in the frame that is
             self.pi.start_run()
+            self.fit = 1.0
+            self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
-            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS))
+            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
             if self.pi.anchored:
                 self.place.settle(b, self._pi_input(), self.config.settle_steps)
         else:
@@ -307,6 +312,7 @@ class HippocampalAgent:
         plastic = True
         if c.path_integration:
             self.pi.move(self._odometry_step(observation, heading_vec))
+            self._scan = (ranges, heading)
             self.place.step_with_sense(b, self._corrected_pi_input)
             plastic = self.pi.anchored  # no learning while the robot does not know where it is
         else:
@@ -363,10 +369,34 @@ class HippocampalAgent:
         return self.place.pi_input(self.pi.estimate, c.pi_gain, c.pi_sigma, c.pi_threshold)
 
     def _corrected_pi_input(self) -> np.ndarray | None:
-        """Correct the estimate with the BVC-only vote just computed; the path-integration drive
-        if anchored, else ``None`` (the boundary code alone drives the place cells)."""
-        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS))
+        """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
+        run, with the exploration map, :meth:`_map_likelihood`); the path-integration drive if
+        anchored, else ``None`` (the boundary code alone drives the place cells)."""
+        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
+        self._check_localisation()
         return self._pi_input() if self.pi.anchored else None
+
+    def _map_likelihood(self, particles: np.ndarray) -> np.ndarray | None:
+        """While a run's estimate is not anchored: how well the current scan fits the exploration
+        map from each sample, ``exp(map_beta * agreement)``, so that of the look-alike places the
+        place code votes for, the one whose surroundings match wins. ``None`` otherwise."""
+        if self.map is None or self.phase == "dry" or self.pi.anchored or self._scan is None:
+            return None
+        ranges, heading = self._scan
+        return np.exp(self.config.map_beta * self.map.scan_agreement(particles, heading, ranges, self.max_range))
+
+    def _check_localisation(self) -> None:
+        """In a run, once anchored: a running mean of how well the scan fits the map at the
+        estimate; when it falls below ``lost_agreement``, the estimate is at a look-alike place:
+        anchor afresh."""
+        if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None:
+            return
+        ranges, heading = self._scan
+        here = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0]
+        self.fit = (1.0 - FIT_RATE) * self.fit + FIT_RATE * here
+        if self.fit < self.config.lost_agreement:
+            self.pi.lose()
+            self.fit = 1.0
 
     # ================================================================== learning
     def learn_reward(self) -> bool:

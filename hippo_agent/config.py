@@ -208,6 +208,13 @@ class AgentConfig:
     one had fired)."""
     max_place_cells: int = 16000
     """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
+    map_beta: float = 10.0
+    """While a run's estimate is not anchored, each path-integration sample is weighed by
+    ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
+    exploration map seen from there (``ExplorationMap.scan_agreement``)."""
+    lost_agreement: float = 0.4
+    """Once anchored, when the running mean of the scan's agreement with the map at the estimate
+    falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
     transit_min_distance: float = 3.0
     """A transit's destination lies at least this far (m, along the path) from where it starts."""
 
@@ -351,6 +358,9 @@ class AgentConfig:
         positive("map_extent", "map_cell", "visit_radius", "search_radius", "explore_lookahead")
         non_negative("transit_factor", "transit_min_distance", "rest_factor")
         positive("imagined_step")
+        non_negative("map_beta")
+        if not -1 <= self.lost_agreement <= 1:
+            raise bad("lost_agreement", "a value in [-1, 1]")
         non_negative("place_cells_per_m2")
 
         if self.discrete_rounding not in ("stochastic", "nearest"):

@@ -33,6 +33,7 @@ __all__ = ["ExplorationMap"]
 FREE_RANGE = 4.0  # m: a ray marks cells free up to here (far cells are seen at too coarse an angle)
 HIT_RANGE = 6.0  # m: a ray ending nearer than this marks a wall
 RAY_STRIDE_DEG = 5.0  # one ray of the scan every this many degrees enters the map
+AGREEMENT_STRIDE_DEG = 10.0  # one ray every this many degrees is compared with the map
 
 
 class ExplorationMap:
@@ -82,6 +83,21 @@ class ExplorationMap:
         i, j = self.index(position[0] + distance * math.cos(heading), position[1] + distance * math.sin(heading))
         if 0 <= i < self.n and 0 <= j < self.n:
             self.hits[i, j] = min(int(self.hits[i, j]) + int(self.free[i, j]) + 1, 65535)
+
+    def scan_agreement(self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> np.ndarray:
+        """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
+        map, in [-1, 1]: per ray that ended on a boundary within ``HIT_RANGE``, -1 if it passed
+        through a wall the map holds, else +1 if the map has a wall within one cell of its end, -1
+        if the map knows that cell as free ground (a boundary where the map has none), 0 where the
+        map knows nothing; averaged over those rays.
+        Look-alike places that the place code confuses differ here, as the map holds their
+        surroundings beyond the nearest walls."""
+        out = np.empty(points.shape[0])
+        stride = max(1, round(ranges.size * AGREEMENT_STRIDE_DEG / 360.0))
+        _scan_agreement(
+            self.free, self.hits, points, float(heading), ranges, stride, float(max_range), self.extent, self.cell, HIT_RANGE, out
+        )
+        return out
 
     def new_run(self) -> None:
         """Forget which cells were searched: a new run searches afresh."""
@@ -178,6 +194,49 @@ def _enter_scan(free, hits, x, y, heading, ranges, stride, max_range, extent, ce
             j = math.floor((y + d * s + extent) / cell)
             if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535:
                 hits[i, j] += 1
+
+
+@njit(cache=True)
+def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, extent, cell, hit_range, out):  # pragma: no cover - compiled
+    n = free.shape[0]
+    n_rays = ranges.size
+    for p in range(points.shape[0]):
+        x, y = points[p, 0], points[p, 1]
+        total = 0.0
+        counted = 0
+        for r in range(0, n_rays, stride):
+            d = float(ranges[r])
+            if not (d < hit_range and d < max_range * 0.999):
+                continue
+            counted += 1
+            angle = heading + 2.0 * math.pi * r / n_rays
+            c, s = math.cos(angle), math.sin(angle)
+            through = False  # the ray passed through a wall the map holds
+            t = 0.5
+            while t < d - 0.5:
+                a = math.floor((x + t * c + extent) / cell)
+                b = math.floor((y + t * s + extent) / cell)
+                if 0 <= a < n and 0 <= b < n and _is_wall(free, hits, a, b):
+                    through = True
+                    break
+                t += 0.5
+            if through:
+                total -= 1.0
+                continue
+            i = math.floor((x + d * c + extent) / cell)
+            j = math.floor((y + d * s + extent) / cell)
+            if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+                continue
+            wall = False
+            for di in range(-1, 2):
+                for dj in range(-1, 2):
+                    if _is_wall(free, hits, i + di, j + dj):
+                        wall = True
+            if wall:
+                total += 1.0
+            elif free[i, j] > 0:
+                total -= 1.0
+        out[p] = total / counted if counted else 0.0
 
 
 @njit(cache=True)

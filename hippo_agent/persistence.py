@@ -18,7 +18,9 @@ from hippo_agent.config import AgentConfig
 __all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 4  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads; 4: the exploration map, recruited cells
+FORMAT_VERSION = (
+    4  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads; 4: the exploration map, recruited cells
+)
 ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
 
 # Every saved array: its name in the file -> (the agent's part holding it, the attribute).
@@ -146,7 +148,9 @@ def load(cls: type, path: str | os.PathLike) -> Any:
         agent = cls(obs_space, act_space, config, seed=meta["seed"])
         recruited = int(meta["place_cells"]) - config.n_place
         if recruited < 0 or recruited > max(config.max_place_cells - config.n_place, 0):
-            raise ValueError(f"place_cells={meta['place_cells']!r} does not fit n_place={config.n_place}, max_place_cells={config.max_place_cells}")
+            raise ValueError(
+                f"place_cells={meta['place_cells']!r} does not fit n_place={config.n_place}, max_place_cells={config.max_place_cells}"
+            )
         if recruited:
             agent.grow_place_cells(recruited)  # (the generator's state is restored below)
         for name, target, attr in _array_slots(agent):

@@ -41,6 +41,7 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -111,7 +112,14 @@ class PathIntegrator:
             self.rng.standard_normal(out=self._noise)
         _kernels.shift(self.particles, self.last_step, spread, self._noise)
 
-    def correct(self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0, spreads: np.ndarray | None = None) -> None:
+    def correct(
+        self,
+        rates: np.ndarray,
+        centres: np.ndarray,
+        mapped: float = 1.0,
+        spreads: np.ndarray | None = None,
+        likelihood: Callable[[np.ndarray], np.ndarray | None] | None = None,
+    ) -> None:
         """Weigh the samples by the sensory vote of cells with ``rates`` > 0 and ``centres``.
 
         ``rates`` and ``centres`` are those of the active cells that have a centre; ``mapped`` is
@@ -124,6 +132,10 @@ class PathIntegrator:
         on boundary input alone: a cell's vote is a 2-D Gaussian of variance ``vote_sigma^2 +
         spread`` around its centre, normalised, so a cell that also fires at a distant look-alike
         place votes broadly and weakly, and the cells that fire in one place only decide.
+
+        ``likelihood(particles)``, if given, returns a further likelihood per sample (or ``None``
+        for none), e.g. how well the current scan fits a map from there; it weighs the samples
+        after the vote.
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
             spreads = np.zeros(rates.size) if spreads is None else np.asarray(spreads, dtype=np.float64)
@@ -139,7 +151,19 @@ class PathIntegrator:
             ess = _kernels.reweigh(gauss, rates, spreads, vote_var, VOTE_FLOOR, self.weights)
             if ess < 0.5 * self.n_particles:
                 self._resample()
+        more = likelihood(self.particles) if likelihood is not None else None
+        if more is not None:
+            self.weights *= more
+            self.weights /= self.weights.sum()
+            if 1.0 / np.sum(self.weights**2) < 0.5 * self.n_particles:
+                self._resample()
         self._summarise()
+
+    def lose(self) -> None:
+        """The estimate is known to be wrong: anchor afresh, as after a kidnap."""
+        self.anchored = False
+        self.fresh = True
+        self.confidence = 0.0
 
     def lagged_estimate(self) -> np.ndarray:
         """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
