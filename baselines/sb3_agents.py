@@ -41,7 +41,10 @@ import numpy as np
 
 from .hyperparams import DQNParams, PPOParams, make_params, params_dict
 
-INSTALL_HINT = "pip install torch==2.13.0 && pip install -e .[baselines]"
+INSTALL_HINT = (
+    "pip install torch==2.13.0 && pip install 'hippomaze[baselines]' (torch first: it is the CPU build, a bare torch "
+    "requirement pulls CUDA wheels); in a checkout of the repository: pip install torch==2.13.0 && pip install -e .[baselines]"
+)
 
 
 def _import_sb3():

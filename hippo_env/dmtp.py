@@ -9,8 +9,13 @@ same goals and starts. :func:`rollout` is the loop itself, for anyone who drives
 
 from __future__ import annotations
 
+import dataclasses
+import importlib.metadata
+import inspect
 import io
+import json
 import math
+import platform
 import time
 import warnings
 from collections.abc import Callable
@@ -22,7 +27,7 @@ import gymnasium as gym
 import numpy as np
 
 from hippo_env.agent_protocol import AgentBase, AgentFactory, missing_methods
-from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE
+from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
 
@@ -47,8 +52,18 @@ class DMTPResult:
     """Everything a DMTP experiment produced. ``paths[trial][run]`` is an (n, 2) array of positions.
 
     ``run_records`` holds one :class:`Run` per finished run, in order (``dmtp.json`` keeps them under
-    ``"episodes"``). ``complete`` is False when the experiment was interrupted (Ctrl-C) before every
-    trial ran: ``run_records`` then holds only the runs that finished.
+    ``"episodes"``). ``complete`` is False when the experiment was interrupted (Ctrl-C) or an
+    exception stopped it (``error`` then names it) before every trial ran: ``run_records`` then
+    holds only the runs that finished.
+
+    ``dry_run_steps`` has one entry per trial begun: the environment steps of that trial's dry run
+    (0 when the agent has none, or was kept from an earlier trial). ``env_steps_total`` is their sum
+    plus the recorded runs' steps, plus those of a run cut short (by the step budget, Ctrl-C or an
+    exception), which is not recorded.
+    The remaining fields say what reproduces the result: ``max_episode_steps``, ``action_type``,
+    ``env_kwargs`` (every argument given to ``gym.make`` besides the maze), ``agent_spec`` (what
+    names the agent, e.g. ``module:Class``), ``agent_config`` (its configuration as JSON, or None)
+    and ``versions`` (of Python and the packages that decide the result).
     """
 
     maze: str
@@ -61,12 +76,20 @@ class DMTPResult:
     paths: list[list[np.ndarray]] = field(default_factory=list)
     seconds: float = 0.0
     complete: bool = True
+    dry_run_steps: list[int] = field(default_factory=list)
+    max_episode_steps: int | None = None
+    action_type: str | None = None
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    agent_spec: str | None = None
+    agent_config: Any = None
+    versions: dict[str, str | None] = field(default_factory=dict)
+    error: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The ``dmtp.json`` record (paths and timing left out).
 
-        An interrupted experiment's record also has ``"complete": false``; a complete one has
-        exactly the documented keys.
+        An incomplete experiment's record also has ``"complete": false`` (and, if an exception
+        stopped it, ``"error"``); a complete one has exactly the documented keys.
         """
         record: dict[str, Any] = {
             "maze": self.maze,
@@ -75,9 +98,18 @@ class DMTPResult:
             "trials": self.trials,
             "runs": self.runs,
             "env_steps_total": self.env_steps_total,
+            "dry_run_steps": list(self.dry_run_steps),
+            "max_episode_steps": self.max_episode_steps,
+            "action_type": self.action_type,
+            "env_kwargs": _plain(self.env_kwargs),
+            "agent_spec": self.agent_spec,
+            "agent_config": self.agent_config,
+            "versions": dict(self.versions),
         }
         if not self.complete:
             record["complete"] = False
+        if self.error is not None:
+            record["error"] = self.error
         record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the key committed records have
         return record
 
@@ -188,6 +220,7 @@ def run_dmtp(
     seed: int = 0,
     *,
     agent_name: str = "agent",
+    agent_spec: str | None = None,
     same_start: bool = False,
     fresh_agent_per_trial: bool = True,
     env_kwargs: dict[str, Any] | None = None,
@@ -206,6 +239,9 @@ def run_dmtp(
         runs: Runs per trial; the first is naive about the new goal.
         seed: Seeds the goals, starts, environment and agents.
         agent_name: The name recorded in the result.
+        agent_spec: What names the agent for someone reproducing the result (``hippomaze dmtp``
+            gives its ``--agent``); by default ``module:Name`` of ``make_agent`` where that can be
+            imported, else ``agent_name``.
         same_start: Start every run of a trial from the same place (the paper's Fig. 3).
         fresh_agent_per_trial: A new agent (and its dry run) for each trial, making trials
             independent replicates; otherwise one agent lives through every trial.
@@ -219,7 +255,11 @@ def run_dmtp(
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
 
     Raises:
+        ValueError: Bad ``trials``, ``runs`` or maze, or an environment argument ``HippoMaze-v0`` does not take.
         DMTPInterrupted: On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` holds the finished runs.
+        DMTPFailed: When an exception escapes the agent, the environment or ``on_run_end`` once the
+            experiment has begun; raised from that exception (its traceback is kept), with the
+            finished runs in its ``result``.
     """
     for name, value in (("trials", trials), ("runs", runs)):
         if not isinstance(value, (int, np.integer)) or value < 1:
@@ -228,19 +268,38 @@ def run_dmtp(
     make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
     if max_episode_steps is not None:
         make_kwargs["max_episode_steps"] = max_episode_steps
+    _check_make_kwargs(make_kwargs)
     env = gym.make("HippoMaze-v0", maze=spec, **make_kwargs)
     counted = _CountingEnv(env, allow_goal=True)
     rng = np.random.default_rng(seed)
     agent_seeds = np.random.SeedSequence(seed).generate_state(trials)
-    result = DMTPResult(maze=spec.name, agent=agent_name, seed=int(seed), trials=int(trials), runs=int(runs))
+    result = DMTPResult(
+        maze=spec.name,
+        agent=agent_name,
+        seed=int(seed),
+        trials=int(trials),
+        runs=int(runs),
+        max_episode_steps=env.spec.max_episode_steps if env.spec is not None else max_episode_steps,
+        action_type=env.unwrapped.action_type,
+        env_kwargs=dict(make_kwargs),
+        agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
+        versions=_versions(),
+    )
     began = time.perf_counter()
     bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
     env.reset(seed=int(seed), options={"goal": None})
     agent = None
-    dry_run_steps = 0
+    doing = "starting"  # what the loop is doing, for the message of an exception that stops it
 
     def budget_left() -> bool:
-        return step_budget is None or dry_run_steps + counted.steps < step_budget
+        return step_budget is None or sum(result.dry_run_steps) + counted.steps < step_budget
+
+    def finish() -> None:
+        result.env_steps_total = sum(result.dry_run_steps) + counted.steps
+        result.seconds = time.perf_counter() - began
+        if bar is not None:
+            bar.close()
+        env.close()
 
     try:
         for trial in range(trials):
@@ -250,15 +309,23 @@ def run_dmtp(
             starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
             if same_start:
                 starts = [starts[0]] * runs
+            result.dry_run_steps.append(0)
             if agent is None or fresh_agent_per_trial:
+                doing = f"building the agent for trial {trial + 1}"
                 agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
                 _check_agent(agent)
+                if trial == 0:
+                    result.agent_config = agent_config(agent)
                 dry_run = dry_run_method(agent)
                 if dry_run is not None:
+                    doing = f"the dry run of trial {trial + 1}"
                     env.reset(options={"goal": None})
                     explorer = _CountingEnv(env, allow_goal=False)
-                    dry_run(explorer)
-                    dry_run_steps += explorer.steps
+                    try:
+                        dry_run(explorer)
+                    finally:  # an interrupted dry run's steps count too
+                        result.dry_run_steps[-1] = explorer.steps
+            doing = f"starting trial {trial + 1}"
             if callable(getattr(agent, "start_trial", None)):
                 agent.start_trial(trial)
             trial_paths: list[np.ndarray] = []
@@ -266,6 +333,7 @@ def run_dmtp(
             for run in range(runs):
                 if not budget_left():
                     break
+                doing = f"trial {trial + 1}, run {run + 1}"
                 observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
                 agent.reset(observation, info)
                 steps_before = counted.steps
@@ -288,29 +356,31 @@ def run_dmtp(
                     )
                 )
                 if on_run_end is not None:
+                    doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
                     on_run_end(trial, run, agent, env)
                 if bar is not None:
                     bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.run_records[-1].indirectness:.2f}")
                     bar.update(1)
     except KeyboardInterrupt:
-        # Keep what finished, consistently: a run counts once it is recorded.
-        result.complete = False
-        done = [sum(r.trial == t for r in result.run_records) for t in range(len(result.paths))]
-        result.paths = [paths[:n] for paths, n in zip(result.paths, done)]
-        while result.paths and not result.paths[-1]:
-            result.paths.pop()
-        result.env_steps_total = dry_run_steps + counted.steps
-        result.seconds = time.perf_counter() - began
-        if bar is not None:
-            bar.close()
-        env.close()
+        _keep_finished(result)
+        finish()
         raise DMTPInterrupted(result) from None
-    result.env_steps_total = dry_run_steps + counted.steps
-    result.seconds = time.perf_counter() - began
-    if bar is not None:
-        bar.close()
-    env.close()
+    except Exception as err:
+        _keep_finished(result)
+        result.error = f"{type(err).__name__}: {err}"
+        finish()
+        raise DMTPFailed(result, doing) from err
+    finish()
     return result
+
+
+def _keep_finished(result: DMTPResult) -> None:
+    """Mark ``result`` incomplete, keeping what finished consistently: a run counts once it is recorded."""
+    result.complete = False
+    done = [sum(r.trial == t for r in result.run_records) for t in range(len(result.paths))]
+    result.paths = [paths[:n] for paths, n in zip(result.paths, done)]
+    while result.paths and not result.paths[-1]:
+        result.paths.pop()
 
 
 class DMTPInterrupted(KeyboardInterrupt):
@@ -322,6 +392,74 @@ class DMTPInterrupted(KeyboardInterrupt):
     def __init__(self, result: DMTPResult) -> None:
         super().__init__(f"interrupted after {len(result.run_records)} of {result.trials * result.runs} runs")
         self.result = result
+
+
+class DMTPFailed(Exception):
+    """An exception stopped :func:`run_dmtp`: raised from it (``__cause__``, with its traceback).
+
+    ``result`` holds every run that finished, with ``complete=False`` and ``error`` naming the
+    exception; ``doing`` says what the runner was doing (e.g. ``"trial 2, run 1"``).
+    """
+
+    def __init__(self, result: DMTPResult, doing: str) -> None:
+        super().__init__(f"{result.error} ({doing}; {len(result.run_records)} of {result.trials * result.runs} runs finished)")
+        self.result = result
+        self.doing = doing
+
+
+def agent_config(agent: Any) -> Any:
+    """The agent's configuration as JSON, for the record: its ``config`` attribute (a dataclass,
+    or what a ``config()`` method returns), or None when it has none or it cannot be written as JSON."""
+    config = getattr(agent, "config", None)
+    if inspect.ismethod(config):
+        try:
+            config = config()
+        except TypeError:  # a method that needs arguments: not a config the record can hold
+            return None
+    if dataclasses.is_dataclass(config) and not isinstance(config, type):
+        config = dataclasses.asdict(config)
+    config = jsonable(config)
+    try:
+        json.dumps(config, allow_nan=False)
+    except (TypeError, ValueError):
+        return None
+    return config
+
+
+def _plain(value: Any) -> Any:
+    """``value`` as JSON types, with anything JSON cannot hold written as its ``repr``."""
+    return json.loads(json.dumps(jsonable(value), default=repr))
+
+
+def _importable_name(obj: Any) -> str | None:
+    """``module:Name`` for a module-level class or function, which ``--agent`` can import; else None."""
+    module, name = getattr(obj, "__module__", None), getattr(obj, "__qualname__", None)
+    if not isinstance(module, str) or not isinstance(name, str) or module == "__main__" or "<" in name:
+        return None
+    return f"{module}:{name}"
+
+
+def _versions() -> dict[str, str | None]:
+    """Python's version and those of the packages that decide a result (None where one is not installed)."""
+    from hippo_env import __version__
+
+    versions: dict[str, str | None] = {"python": platform.python_version()}
+    for package in ("hippomaze", "gymnasium", "numpy", "pymunk"):
+        try:
+            versions[package] = importlib.metadata.version(package)
+        except importlib.metadata.PackageNotFoundError:
+            versions[package] = __version__ if package == "hippomaze" else None
+    return versions
+
+
+def _check_make_kwargs(make_kwargs: dict[str, Any]) -> None:
+    """Refuse, with the allowed names, arguments that ``gym.make("HippoMaze-v0", maze=...)`` cannot take."""
+    allowed = [p for p in inspect.signature(HippoMazeEnv).parameters if p != "maze"] + ["max_episode_steps", "disable_env_checker"]
+    if "maze" in make_kwargs:
+        raise ValueError("env_kwargs may not hold 'maze': give the maze as run_dmtp's maze argument (hippomaze dmtp --maze)")
+    unknown = sorted(set(make_kwargs) - set(allowed))
+    if unknown:
+        raise ValueError(f"HippoMaze-v0 takes no argument(s) {', '.join(map(str, unknown))}; allowed: {', '.join(allowed)}")
 
 
 def dry_run_method(agent: Any) -> Callable[[gym.Env], None] | None:
@@ -361,4 +499,4 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["DMTPInterrupted", "DMTPResult", "RolloutEnd", "Run", "dry_run_method", "rollout", "run_dmtp"]
+__all__ = ["DMTPFailed", "DMTPInterrupted", "DMTPResult", "RolloutEnd", "Run", "agent_config", "dry_run_method", "rollout", "run_dmtp"]

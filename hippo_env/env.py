@@ -142,6 +142,10 @@ class HippoMazeEnv(gym.Env):
             raise ValueError(f"reward_type {reward_type!r} is unknown; choose one of {', '.join(REWARD_TYPES)}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode {render_mode!r} is unknown; choose None or one of {', '.join(self.metadata['render_modes'])}")
+        if render_mode == "human":
+            from hippo_env.render import check_human_display
+
+            check_human_display()  # now, not as a silent blank window at the first step
         if not isinstance(odometry, bool):
             raise ValueError(f"odometry must be True or False, got {odometry!r}")
         noises = (("range_noise", range_noise), ("odometry_noise", odometry_noise), ("heading_noise", heading_noise))
@@ -193,6 +197,7 @@ class HippoMazeEnv(gym.Env):
         self._shortest = math.nan
         self._elapsed = 0
         self._renderer = None
+        self._reset_done = False  # the robot has no pose until the first reset places it
 
     # ------------------------------------------------------------------ gymnasium API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -225,6 +230,7 @@ class HippoMazeEnv(gym.Env):
             if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
                 raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
         self.world.reset(start, float(heading))
+        self._reset_done = True
         self._path.reset(self.world.position)
         self._path_length = 0.0
         self._elapsed = 0
@@ -236,6 +242,8 @@ class HippoMazeEnv(gym.Env):
         return observation, self._info(position, heading, collision=False, success=False)
 
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        if not self._reset_done:
+            raise gym.error.ResetNeeded("call reset() before step(): the robot has no start pose until the first reset places it")
         before = self.world.position
         if self.action_type == "discrete":
             collision = self.world.drive_heading(self._discrete_action(action) * math.pi / 4)

@@ -9,6 +9,8 @@ renderer, :func:`plot_maze` and the agent's figures (``hippo_agent.plots``, in :
 from __future__ import annotations
 
 import math
+import os
+import sys
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -25,6 +27,8 @@ FLOOR_COLOUR = "#f4f1ea"
 GOAL_COLOUR = "#d62728"
 ROBOT_COLOUR = "#1f77b4"
 MAX_DRAWN_RAYS = 90
+#: matplotlib's built-in backends that draw only to files or buffers, never to a window.
+NON_INTERACTIVE_BACKENDS = ("agg", "cairo", "pdf", "pgf", "ps", "svg", "template")
 
 
 @dataclass(frozen=True)
@@ -103,6 +107,31 @@ def plot_maze(maze: MazeSpec | str, ax: Axes | None = None, goal: tuple[float, f
     draw_maze(spec, ax, goal=goal if goal is not None else spec.goal)
     ax.set_title(title if title is not None else spec.name)
     return fig, ax
+
+
+def check_human_display() -> None:
+    """Raise ``RuntimeError`` if ``render_mode="human"`` could show no window here.
+
+    Without a display, matplotlib quietly falls back to a backend that draws off-screen: the
+    environment would then pause at every step and show nothing. Two causes are named: no display
+    on Linux (neither ``DISPLAY`` nor ``WAYLAND_DISPLAY`` set), or a matplotlib backend that cannot
+    open windows.
+    """
+    alternative = (
+        'use render_mode="rgb_array" instead: render() then returns each frame as an array (gymnasium.wrappers.RecordVideo saves them)'
+    )
+    if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise RuntimeError(
+            f'render_mode="human" needs a display to open a window in, and there is none (neither DISPLAY nor WAYLAND_DISPLAY is set); {alternative}'
+        )
+    import matplotlib
+
+    backend = matplotlib.get_backend()
+    if backend.lower() in NON_INTERACTIVE_BACKENDS:
+        raise RuntimeError(
+            f'render_mode="human" needs an interactive matplotlib backend, but matplotlib uses {backend!r}, which cannot open a window '
+            f"(no GUI toolkit such as tkinter or PyQt found, or MPLBACKEND / matplotlib.use chose it); {alternative}"
+        )
 
 
 class Renderer:

@@ -8,8 +8,10 @@ with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experimen
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
+import traceback
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +34,8 @@ DMTP_OUTPUTS = (
 )
 # Exit status after Ctrl-C, as a shell reports a process ended by SIGINT.
 EXIT_INTERRUPTED = 130
+# Exit status when an exception inside the experiment (the agent's code, most likely) stopped it.
+EXIT_FAILED = 1
 # Analysis maps sample at most this many positions (each costs a place-cell settle).
 MAX_MAP_POSITIONS = 2500
 EXAMPLE_PLACE_CELLS = 6
@@ -49,7 +53,8 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument(
         "--agent",
         default="hippo",
-        help="hippo (the default model), hippo-paper (the paper's model), random, dqn, ppo, or module:Class (default: hippo)",
+        help="hippo (the default model), hippo-paper (the paper's model), random, dqn, ppo, module:Class for an agent class, "
+        "or module:make_agent for a factory function (default: hippo)",
     )
     dmtp.add_argument("--out", default="out", help="folder for dmtp.json and figures, new or empty (default: out)")
     dmtp.add_argument(
@@ -57,7 +62,18 @@ def main(argv: list[str] | None = None) -> int:
     )
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
     dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
-    dmtp.add_argument("--action-type", default="discrete", choices=ACTION_TYPES, help="the action space (default: discrete)")
+    dmtp.add_argument(
+        "--action-type", default=None, choices=ACTION_TYPES, help="the action space (default: what the agent asks for, else discrete)"
+    )
+    dmtp.add_argument(
+        "--env",
+        action="append",
+        default=[],
+        type=_env_argument,
+        metavar="KEY=VALUE",
+        help="an argument for gym.make('HippoMaze-v0', ...), e.g. --env n_rays=360 --env odometry=true; VALUE is read as JSON "
+        "(true, 3, 0.5, [1, 2]) where it parses, else as a string; overrides the agent's env_kwargs (repeatable)",
+    )
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -89,8 +105,11 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
-    """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures."""
-    from hippo_env.dmtp import DMTPInterrupted, run_dmtp
+    """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures.
+
+    If the agent raises, its traceback is printed and the runs that finished are saved to dmtp.json,
+    marked "complete": false, with the exception under "error"."""
+    from hippo_env.dmtp import DMTPFailed, DMTPInterrupted, run_dmtp
     from hippo_env.maze import MazeSpec
     from hippomaze.registry import agent_factory
     from hippomaze.report import format_table, write_dmtp_figures
@@ -98,7 +117,13 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
     maze = MazeSpec.load(args.maze)
-    factory = agent_factory(args.agent)
+    try:
+        factory = agent_factory(args.agent)
+    except ImportError as err:  # a missing optional extra (dqn, ppo): one line says how to install it
+        raise ValueError(str(err)) from err
+    env_kwargs = dict(args.env)  # run_dmtp puts the agent's own env_kwargs under these
+    if args.action_type is not None:
+        env_kwargs = {"action_type": args.action_type, **env_kwargs}
     out = prepare_out_dir(Path(args.out), args.overwrite)  # before any work: never run, then fail to save
     maps: dict[str, Any] = {}
     try:
@@ -109,8 +134,9 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
             runs=args.runs,
             seed=args.seed,
             agent_name=args.agent,
+            agent_spec=args.agent,
             same_start=args.same_start,
-            env_kwargs={"action_type": args.action_type},
+            env_kwargs=env_kwargs,
             max_episode_steps=args.max_steps,
             progress=not args.no_progress,
             on_run_end=None if args.no_figures else _collect_maps(maps),
@@ -124,6 +150,16 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_INTERRUPTED
+    except DMTPFailed as failure:
+        partial = failure.result
+        path = partial.save(out)
+        traceback.print_exception(failure.__cause__, file=sys.stderr)
+        print(
+            f"hippomaze: error: {partial.error} ({failure.doing}); saved the {len(partial.run_records)} finished runs "
+            f'of {partial.trials * partial.runs} to {path} (marked "complete": false)',
+            file=sys.stderr,
+        )
+        return EXIT_FAILED
     path = result.save(out)
     write_json(out / "summary.json", result.summary())
     print(format_table(result))
@@ -245,6 +281,18 @@ def _grid(maze: Any, spacing: float = 0.2) -> np.ndarray:
     if len(grid) > MAX_MAP_POSITIONS:
         grid = grid[np.linspace(0, len(grid) - 1, MAX_MAP_POSITIONS).astype(int)]
     return grid
+
+
+def _env_argument(text: str) -> tuple[str, Any]:
+    """An argparse type: ``KEY=VALUE`` for gym.make, VALUE read as JSON where it parses, else kept as a string."""
+    key, equals, value = text.partition("=")
+    key = key.strip()
+    if not equals or not key.isidentifier():
+        raise argparse.ArgumentTypeError(f"must be KEY=VALUE with KEY an argument name, e.g. n_rays=360 or odometry=true; got {text!r}")
+    try:
+        return key, json.loads(value)
+    except json.JSONDecodeError:
+        return key, value
 
 
 def _seed(text: str) -> int:

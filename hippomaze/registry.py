@@ -11,8 +11,9 @@ stable-baselines3, the hippocampal model) happen only when a factory is called.
 Three ways to name an agent:
 
 - a built-in name (:data:`AGENT_NAMES`);
-- ``module:Class``, for any class that follows the Agent protocol (``hippomaze dmtp`` puts the
-  current directory on the import path, as ``python -m`` does);
+- ``module:Class``, for any class that follows the Agent protocol, or ``module:make_agent`` for a
+  factory function (an :class:`~hippo_env.agent_protocol.AgentFactory`); ``hippomaze dmtp`` puts the
+  current directory on the import path, as ``python -m`` does;
 - a name another distribution registers in the ``hippomaze.agents`` entry-point group, e.g. in its
   ``pyproject.toml``::
 
@@ -20,6 +21,10 @@ Three ways to name an agent:
       greedy = "mypackage.agents:GreedyAgent"
 
   after which ``hippomaze dmtp --agent greedy`` builds ``GreedyAgent``.
+
+A class or factory may declare ``env_kwargs`` (e.g. ``env_kwargs = {"odometry": True}``), the
+arguments its agent needs ``gym.make`` to be given; the factory returned here carries them, and the
+runner passes them on, as it does for the built-in agents.
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ import importlib
 import inspect
 from dataclasses import fields, replace
 from importlib.metadata import entry_points
+from importlib.util import find_spec
 from typing import Any
 
 import gymnasium as gym
@@ -82,8 +88,12 @@ def _random(**overrides: Any) -> AgentFactory:
 
 def _sb3(name: str, **overrides: Any) -> AgentFactory:
     from hippomaze.baselines.hyperparams import make_params
+    from hippomaze.baselines.sb3_agents import INSTALL_HINT
 
     params = make_params(name, **overrides)  # check the names now, not at the first call
+    missing = [package for package in ("torch", "stable_baselines3") if find_spec(package) is None]
+    if missing:  # found without importing them: the imports are heavy
+        raise ImportError(f"agent {name!r} needs torch and stable-baselines3 (the 'baselines' extra), not installed here: {INSTALL_HINT}")
 
     def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
         from hippomaze.baselines.sb3_agents import DQNAgent, PPOAgent
@@ -107,14 +117,15 @@ def _dynaq(**overrides: Any) -> AgentFactory:
     return make
 
 
-def _takes_seed(name: str, cls: type, overrides: dict[str, Any]) -> bool:
-    """Whether ``cls(observation_space, action_space, seed=..., **overrides)`` fits its constructor.
+def _takes_seed(name: str, build: Any, overrides: dict[str, Any]) -> bool:
+    """Whether ``build(observation_space, action_space, seed=..., **overrides)`` fits ``build``, an
+    agent class or factory function.
 
-    A constructor without ``seed`` is accepted (the agent is then seeded only by what it does
-    itself); one that cannot take the two spaces is a one-line ``ValueError`` naming the expected signature.
+    One without ``seed`` is accepted (the agent is then seeded only by what it does itself); one
+    that cannot take the two spaces is a one-line ``ValueError`` naming the expected signature.
     """
     try:
-        signature = inspect.signature(cls)
+        signature = inspect.signature(build)
     except (TypeError, ValueError):  # no introspectable signature: assume the documented one
         return True
     for with_seed in (True, False):
@@ -124,10 +135,38 @@ def _takes_seed(name: str, cls: type, overrides: dict[str, Any]) -> bool:
             continue
         return with_seed
     extra = f", {', '.join(f'{k}=...' for k in overrides)}" if overrides else ""
-    raise ValueError(
-        f"agent {name!r}: {cls.__name__}{signature} cannot be built as {cls.__name__}(observation_space, action_space, seed=seed{extra}); "
+    shown = getattr(build, "__name__", type(build).__name__)
+    expected = (
         "an agent class's constructor must be __init__(self, observation_space, action_space, seed=None)"
+        if inspect.isclass(build)
+        else "an agent factory must be make_agent(observation_space, action_space, *, seed)"
     )
+    raise ValueError(
+        f"agent {name!r}: {shown}{signature} cannot be called as {shown}(observation_space, action_space, seed=seed{extra}); {expected}"
+    )
+
+
+def _declared_env_kwargs(name: str, build: Any) -> dict[str, Any]:
+    """The ``env_kwargs`` an agent class or factory declares (``{}`` if none), checked to be a dict of names."""
+    declared = getattr(build, "env_kwargs", None)
+    if declared is None:
+        return {}
+    if not isinstance(declared, dict) or not all(isinstance(k, str) for k in declared):
+        raise ValueError(f"agent {name!r}: env_kwargs must be a dict of gym.make arguments, e.g. {{'odometry': True}}; got {declared!r}")
+    return dict(declared)
+
+
+def _factory(name: str, build: Any, overrides: dict[str, Any]) -> AgentFactory:
+    """The factory for an agent class or factory function ``build``, carrying its declared ``env_kwargs``."""
+    takes_seed = _takes_seed(name, build, overrides)
+
+    def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
+        if takes_seed:
+            return build(observation_space, action_space, seed=seed, **overrides)
+        return build(observation_space, action_space, **overrides)
+
+    make.env_kwargs = _declared_env_kwargs(name, build)  # type: ignore[attr-defined]
+    return make
 
 
 def agent_factory(name: str, **overrides: Any) -> AgentFactory:
@@ -136,16 +175,19 @@ def agent_factory(name: str, **overrides: Any) -> AgentFactory:
     Args:
         name: ``hippo`` (the default model), ``hippo-paper`` (``AgentConfig.paper()``), ``random``,
             ``dqn``, ``ppo``, ``dynaq`` (privileged: reads the true position),
-            a name registered in the ``hippomaze.agents`` entry-point group, or ``module:Class``
+            a name registered in the ``hippomaze.agents`` entry-point group, ``module:Class``
             for any class following the Agent protocol (either built as
             ``Class(observation_space, action_space, seed=seed, **overrides)``, or without
-            ``seed`` if its constructor takes none).
+            ``seed`` if its constructor takes none), or ``module:make_agent`` for a factory
+            function, called the same way. A class's or factory's ``env_kwargs`` attribute
+            becomes the returned factory's.
         **overrides: Parameters to change: fields of ``hippo_agent.AgentConfig`` for ``hippo``, of
             :mod:`hippomaze.baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
 
     Raises:
         ValueError: An unknown name (the message lists the allowed ones) or parameter, or a
             ``module:Class`` whose constructor cannot take ``(observation_space, action_space)``.
+        ImportError: ``dqn`` or ``ppo`` without torch and stable-baselines3 (the message says how to install them).
     """
     if not isinstance(name, str):
         raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")
@@ -159,49 +201,57 @@ def agent_factory(name: str, **overrides: Any) -> AgentFactory:
         return _dynaq(**overrides)
     registered = {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
     if ":" in name or name in registered:
-        cls = load_agent_class(name) if ":" in name else _load_registered(name, registered[name])
-        takes_seed = _takes_seed(name, cls, overrides)
-
-        def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
-            if takes_seed:
-                return cls(observation_space, action_space, seed=seed, **overrides)
-            return cls(observation_space, action_space, **overrides)
-
-        return make
+        build = load_agent(name) if ":" in name else _load_registered(name, registered[name])
+        return _factory(name, build, overrides)
     hint = " (dense reward is an env setting: reward_type='dense', not an agent)" if name.endswith("-dense") else ""
     others = f", one registered by an installed package ({', '.join(sorted(registered))})" if registered else ""
     raise ValueError(f"agent {name!r} is unknown{hint}; choose one of {', '.join(AGENT_NAMES)}{others}, or module:Class for your own")
 
 
-def load_agent_class(spec: str) -> type:
-    """Import ``module:Class`` (e.g. ``mypkg.agents:GreedyAgent``) and check it follows the Agent protocol."""
+def load_agent(spec: str) -> Any:
+    """Import ``module:Class`` (e.g. ``mypkg.agents:GreedyAgent``) or ``module:make_agent`` (a factory
+    function); a class is checked to follow the Agent protocol."""
     if ":" not in spec:
         raise ValueError(f"agent {spec!r} is unknown; give hippo, random, dqn, ppo, or module:Class for your own")
-    module_name, _, class_name = spec.partition(":")
+    module_name, _, attribute = spec.partition(":")
     try:
         module = importlib.import_module(module_name)
     except ImportError as err:
         raise ValueError(f"agent {spec!r}: cannot import module {module_name!r} ({err})") from err
-    cls = getattr(module, class_name, None)
-    if cls is None:
-        raise ValueError(f"agent {spec!r}: module {module_name!r} has no attribute {class_name!r}")
-    return _checked(spec, cls)
+    build = getattr(module, attribute, None)
+    if build is None:
+        raise ValueError(f"agent {spec!r}: module {module_name!r} has no attribute {attribute!r}")
+    return _checked(spec, build)
 
 
-def _load_registered(name: str, entry_point: Any) -> type:
-    """The class an installed package registered as ``name`` in the ``hippomaze.agents`` group."""
+#: The former name of :func:`load_agent`, from when only classes could be named.
+load_agent_class = load_agent
+
+
+def _load_registered(name: str, entry_point: Any) -> Any:
+    """The class or factory an installed package registered as ``name`` in the ``hippomaze.agents`` group."""
     try:
-        cls = entry_point.load()
+        build = entry_point.load()
     except Exception as err:  # a broken third-party package: say which and why
         raise ValueError(f"agent {name!r} (entry point {entry_point.value!r} in group {ENTRY_POINT_GROUP!r}) did not load: {err}") from err
-    return _checked(f"{name} ({entry_point.value})", cls)
+    return _checked(f"{name} ({entry_point.value})", build)
 
 
-def _checked(spec: str, cls: Any) -> type:
-    missing = missing_methods(cls)
-    if missing:
-        raise ValueError(f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)")
-    return cls
+def _checked(spec: str, build: Any) -> Any:
+    """``build`` if it is an agent class following the protocol or a factory (any other callable)."""
+    if inspect.isclass(build):
+        missing = missing_methods(build)
+        if missing:
+            raise ValueError(
+                f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)"
+            )
+        return build
+    if callable(build):
+        return build  # a factory: the runner checks the agents it returns
+    raise ValueError(
+        f"agent {spec!r} is a {type(build).__name__}, neither an agent class nor a factory function; name a class following the "
+        "Agent protocol (see hippo_env.agent_protocol) or a factory make_agent(observation_space, action_space, *, seed)"
+    )
 
 
-__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent_class"]
+__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent", "load_agent_class"]

@@ -10,10 +10,14 @@ import numpy as np
 import pytest
 from hippomaze.baselines import RandomAgent
 
-from hippo_env.dmtp import DMTPResult, Run, run_dmtp
+from hippo_env.dmtp import DMTPFailed, DMTPResult, Run, run_dmtp
 from hippomaze.registry import load_agent_class
 
 RUN_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
+# The documented keys, and those that reproduce the run.
+RECORD_KEYS = {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "dry_run_steps", "episodes"} | {
+    "max_episode_steps", "action_type", "env_kwargs", "agent_spec", "agent_config", "versions",
+}  # fmt: skip
 TINY = {"trials": 2, "runs": 2, "max_episode_steps": 200, "progress": False, "env_kwargs": {"n_rays": 32}}
 
 
@@ -60,7 +64,7 @@ def test_records_are_complete_and_well_formed(random_result, tmp_path):
     result = random_result
     assert isinstance(result, DMTPResult)
     record = result.to_dict()
-    assert set(record) == {"maze", "agent", "seed", "trials", "runs", "env_steps_total", "episodes"}
+    assert set(record) == RECORD_KEYS
     assert (record["maze"], record["agent"], record["seed"], record["trials"], record["runs"]) == ("maze1", "random", 3, 2, 2)
     runs = record["episodes"]
     assert [(r["trial"], r["run"]) for r in runs] == [(0, 0), (0, 1), (1, 0), (1, 1)]
@@ -125,8 +129,9 @@ def test_env_steps_total_counts_the_dry_run(fresh):
 
 @pytest.mark.parametrize("agent", [GoalPlacingAgent, NewGoalAgent])
 def test_placing_a_goal_during_the_dry_run_is_refused(agent):
-    with pytest.raises(ValueError, match="may not place a goal during its dry run"):
+    with pytest.raises(DMTPFailed, match="may not place a goal during its dry run") as failed:
         run_dmtp(agent, maze="open", seed=0, **TINY)
+    assert isinstance(failed.value.__cause__, ValueError)
 
 
 class OldStyleAgent(RandomAgent):
@@ -169,8 +174,9 @@ def test_the_former_names_still_work_with_a_deprecation_warning(random_result):
 
 
 def test_agent_missing_methods_is_refused():
-    with pytest.raises(TypeError, match="NotAnAgent does not follow the Agent protocol: it lacks reset, observe"):
+    with pytest.raises(DMTPFailed, match="NotAnAgent does not follow the Agent protocol: it lacks reset, observe") as failed:
         run_dmtp(lambda o, a, seed=None: NotAnAgent(), maze="open", seed=0, **TINY)
+    assert isinstance(failed.value.__cause__, TypeError)
 
 
 @pytest.mark.parametrize("value", [0, -1, 1.5, "2"])

@@ -64,7 +64,8 @@ def test_render_without_mode_warns_and_returns_none():
         assert env.render() is None
 
 
-def test_human_mode_runs_headless():
+def test_human_mode_runs_headless(monkeypatch):
+    monkeypatch.setattr(hippo_env.render, "check_human_display", lambda: None)  # as if a display were there
     env = HippoMazeEnv(maze="maze4", n_rays=32, render_mode="human")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # Agg is non-interactive

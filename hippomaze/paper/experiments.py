@@ -196,8 +196,11 @@ def build_tasks(args: PaperArgs) -> list[Task]:
 def merge_trials(results: list[DMTPResult], seed: int) -> DMTPResult:
     """Single-trial results as one ``DMTPResult`` (trial ``t`` = the ``t``-th result)."""
     first = results[0]
-    merged = DMTPResult(maze=first.maze, agent=first.agent, seed=seed, trials=len(results), runs=first.runs)
+    merged = dataclasses.replace(
+        first, seed=seed, trials=len(results), run_records=[], paths=[], dry_run_steps=[], env_steps_total=0, seconds=0.0
+    )
     for t, r in enumerate(results):
+        merged.dry_run_steps += r.dry_run_steps
         merged.run_records += [dataclasses.replace(record, trial=t) for record in r.run_records]
         merged.paths += r.paths
         merged.env_steps_total += r.env_steps_total
