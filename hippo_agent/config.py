@@ -210,6 +210,10 @@ class AgentConfig:
     one had fired)."""
     max_place_cells: int = 16000
     """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
+    pi_min_anchor_steps: int = 20
+    """A run's estimate is anchored no sooner than this many steps after the robot was put down
+    (or found misplaced), so that the exploration map's fit (``map_beta``) accumulates over
+    several scans and tells apart look-alike rooms whose difference is a door or two."""
     map_beta: float = 10.0
     """While a run's estimate is not anchored, each path-integration sample is weighed by
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
@@ -360,7 +364,7 @@ class AgentConfig:
         positive("map_extent", "map_cell", "visit_radius", "search_radius", "explore_lookahead")
         non_negative("transit_factor", "transit_min_distance", "rest_factor")
         positive("imagined_step")
-        non_negative("map_beta")
+        non_negative("map_beta", "pi_min_anchor_steps")
         if not -1 <= self.lost_agreement <= 1:
             raise bad("lost_agreement", "a value in [-1, 1]")
         non_negative("place_cells_per_m2")
@@ -414,7 +418,8 @@ class AgentConfig:
             "anchor_radius": self.pi_anchor_radius,
             "anchor_weight": self.pi_anchor_weight,
             "redraw_fraction": self.pi_redraw_fraction,
-            "lag": (1.0 - self.k) / self.k,  # eq. 3's Euler update lags the input by this many steps
+            "lag": (1.0 - self.k) / self.k,
+            "min_anchor_steps": self.pi_min_anchor_steps,  # eq. 3's Euler update lags the input by this many steps
         }
 
     def replace(self, **changes: Any) -> AgentConfig:

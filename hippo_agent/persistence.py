@@ -69,6 +69,7 @@ PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("anchored", bool),
     ("fresh", bool),
     ("confidence", float),
+    ("lost_steps", int),
 )
 
 

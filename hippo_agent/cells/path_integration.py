@@ -32,6 +32,9 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
     anchor_radius: samples within this distance (m) of the best one form its cluster.
     anchor_weight: the cluster's share of the weight at which a lost estimate counts as anchored.
     redraw_fraction: while lost, this share of the samples is drawn afresh from the vote each step.
+    min_anchor_steps: a lost estimate is not anchored before this many corrections, so that
+        evidence that accumulates (a map's fit, :meth:`correct`'s ``likelihood``) can single out
+        one of several look-alike places.
     lag: the place rates lag the input by this many steps (``(1 - k) / k`` for eq. 3's Euler update),
         so the vote is compared with where each sample was that many steps ago (``lag`` times the
         last step back), and cells learn their centres there too (:meth:`lagged_estimate`).
@@ -68,6 +71,7 @@ class PathIntegrator:
         anchor_weight: float,
         redraw_fraction: float,
         lag: float,
+        min_anchor_steps: int = 0,
     ) -> None:
         self.n_particles = int(n_particles)
         self.rng = rng
@@ -85,6 +89,8 @@ class PathIntegrator:
         self.anchored = False
         self.fresh = False  # kidnapped and no sample drawn from the vote yet
         self.lag = float(lag)
+        self.min_anchor_steps = int(min_anchor_steps)
+        self.lost_steps = 0  # corrections since the estimate was last lost
         self.min_mapped = MIN_MAPPED
         self.last_step = np.zeros(2)
         self._noise = np.zeros((self.n_particles, 2))  # scratch: one step's motion noise
@@ -92,6 +98,7 @@ class PathIntegrator:
     def start_run(self) -> None:
         """A run begins. The first ever run sets the frame (origin here); later ones are kidnaps."""
         self.last_step = np.zeros(2)
+        self.lost_steps = 0
         if not self.frame_started:
             self.frame_started = True
             self.particles[:] = 0.0
@@ -151,6 +158,8 @@ class PathIntegrator:
             ess = _kernels.reweigh(gauss, rates, spreads, vote_var, VOTE_FLOOR, self.weights)
             if ess < 0.5 * self.n_particles:
                 self._resample()
+        if not self.anchored:
+            self.lost_steps += 1
         more = likelihood(self.particles) if likelihood is not None else None
         if more is not None:
             self.weights *= more
@@ -164,6 +173,7 @@ class PathIntegrator:
         self.anchored = False
         self.fresh = True
         self.confidence = 0.0
+        self.lost_steps = 0
 
     def lagged_estimate(self) -> np.ndarray:
         """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
@@ -190,5 +200,5 @@ class PathIntegrator:
         """The estimate is the weighted mean of the heaviest sample's cluster; its weight is the confidence."""
         x, y, self.confidence = _kernels.cluster_mean(self.particles, self.weights, self.anchor_radius**2)
         self.estimate = np.array([x, y])
-        if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight:
+        if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight and self.lost_steps >= self.min_anchor_steps:
             self.anchored = True  # (a fresh belief is still where the last run ended: no evidence yet)
