@@ -63,6 +63,7 @@ class ExplorationMap:
         self._stamp = np.zeros(n * n, dtype=np.int32)
         self._parent = np.zeros(n * n, dtype=np.int32)
         self._queue = np.zeros(n * n, dtype=np.int32)
+        self._depth = np.zeros(n * n, dtype=np.int32)
         self._search_id = np.zeros(1, dtype=np.int32)
 
     # ------------------------------------------------------------------ senses
@@ -120,17 +121,19 @@ class ExplorationMap:
         lengths in cells (for choosing transits)."""
         i, j = self.index(*position)
         self._search_id[0] += 1
-        cells, steps = _reachable(self.free, self.hits, self.visited, i, j, self._stamp, self._parent, self._queue, self._search_id[0])
-        return cells, steps
+        _, reached = _search(self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0])
+        return _known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
     def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None) -> np.ndarray:
         """Flat indices of the cells along the shortest walkable path from ``position`` to the cell
         ``target`` (``-1``: to the nearest walkable cell that ``known`` does not hold); empty if
         there is none."""
+        if target < -1:
+            raise ValueError(f"target={target}; allowed: a cell's flat index, or -1 for the nearest cell that known does not hold")
         i, j = self.index(*position)
         self._search_id[0] += 1
         known = self.visited if known is None else known
-        found = _search(self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0])
+        found, _ = _search(self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0])
         return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
 
     def _plan(self, position: np.ndarray, known: np.ndarray, target: int) -> float | None:
@@ -287,12 +290,13 @@ def _passable(free, hits, i, j, near_start):  # pragma: no cover - compiled
 @njit(cache=True)
 def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
-    ``target`` (a flat index) or, if ``target < 0``, to the nearest walkable cell that ``known``
-    does not hold. Returns the flat index of the cell found (its path back to the start through
-    ``parent``), or -1 if there is none (or the robot is there)."""
+    ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
+    does not hold; if ``target == -2``, everywhere reachable. Returns the flat index of the cell
+    found (its path back to the start through ``parent``), or -1 if there is none (or the robot
+    is there), and the number of cells reached (``queue[:reached]``, in the order reached)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
-        return -1
+        return -1, 0
     start = i0 * n + j0
     stamp[start] = search_id
     parent[start] = -1
@@ -304,13 +308,13 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):
         head += 1
         ci, cj = cur // n, cur % n
         # a robot beside a wall stands on cells that are not walkable: leave them by free ones
-        near = cur == start or parent[cur] == start
+        near = target != -2 and (cur == start or parent[cur] == start)
         if cur != start:
             if target >= 0:
                 if cur == target:
                     found = cur
                     break
-            elif not known[ci, cj] and _walkable(free, hits, ci, cj):
+            elif target == -1 and not known[ci, cj] and _walkable(free, hits, ci, cj):
                 found = cur
                 break
         for di in range(-1, 2):
@@ -327,7 +331,7 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):
                 parent[nxt] = cur
                 queue[tail] = nxt
                 tail += 1
-    return found
+    return found, tail
 
 
 @njit(cache=True)
@@ -347,48 +351,22 @@ def _path_to(parent, found):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _reachable(free, hits, visited, i0, j0, stamp, parent, queue, search_id):  # pragma: no cover - compiled
-    """Every walkable cell reachable from (i0, j0) that ``visited`` holds, with its path length."""
-    n = free.shape[0]
-    cells = np.empty(0, dtype=np.int64)
-    steps = np.empty(0, dtype=np.int64)
-    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
-        return cells, steps
-    start = i0 * n + j0
-    stamp[start] = search_id
-    parent[start] = 0  # here: the path length in steps
-    head, tail = 0, 1
-    queue[0] = start
-    while head < tail:
-        cur = queue[head]
-        head += 1
-        ci, cj = cur // n, cur % n
-        for di in range(-1, 2):
-            for dj in range(-1, 2):
-                if di == 0 and dj == 0:
-                    continue
-                a, b = ci + di, cj + dj
-                nxt = a * n + b
-                if stamp[nxt] == search_id or not _walkable(free, hits, a, b):
-                    continue
-                if di != 0 and dj != 0 and not (_walkable(free, hits, ci + di, cj) and _walkable(free, hits, ci, cj + dj)):
-                    continue
-                stamp[nxt] = search_id
-                parent[nxt] = parent[cur] + 1
-                queue[tail] = nxt
-                tail += 1
+def _known_with_steps(known, parent, queue, reached, depth, n):  # pragma: no cover - compiled
+    """Of the cells a search reached (``queue[:reached]``, in the order reached), those ``known``
+    holds, with their path lengths in steps (``depth``: scratch, one entry per cell)."""
     count = 0
-    for k in range(tail):
+    for k in range(reached):
         c = queue[k]
-        if visited[c // n, c % n]:
+        depth[c] = 0 if k == 0 else depth[parent[c]] + 1
+        if known[c // n, c % n]:
             count += 1
     cells = np.empty(count, dtype=np.int64)
     steps = np.empty(count, dtype=np.int64)
     m = 0
-    for k in range(tail):
+    for k in range(reached):
         c = queue[k]
-        if visited[c // n, c % n]:
+        if known[c // n, c % n]:
             cells[m] = c
-            steps[m] = parent[c]
+            steps[m] = depth[c]
             m += 1
     return cells, steps
