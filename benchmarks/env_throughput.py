@@ -54,6 +54,7 @@ from benchmarks.common import (
     resident_megabytes,
 )
 from hippo_env.maze import MazeSpec
+from hippo_env.physics import RobotWorld
 
 
 @dataclass
@@ -192,6 +193,7 @@ def main(argv: list[str] | None = None) -> None:
             "name": args.peer,
             "timed": peer is not None,
             "why_not": None if peer is not None else _PEER_STATUS["why"],
+            "versions": _peer_versions() if peer is not None else None,
             "min_x_peer_720_rays": min((row["x_peer"] for row in single if "x_peer" in row), default=None),
         },
     }
@@ -210,6 +212,8 @@ def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:
             numpy=np.__version__, pymunk=pymunk.version, numba=numba.__version__, gymnasium=gym.__version__, hippo_env=hippo_env.__version__
         )
         | {"load_average_at_start": load_at_start, "load_average_at_end": load_average()},
+        # hippo_env's pymunk calls: "cffi" (pymunk's C bindings, on the pymunk versions checked) or "public".
+        "pymunk_calls": RobotWorld(MazeSpec.load("open")).pymunk_calls,
     }
 
 
@@ -229,6 +233,19 @@ def _make_peer(name: str) -> gym.Env | None:
     except Exception as err:  # noqa: BLE001 (the extra is missing or MuJoCo cannot start: time hippomaze alone)
         _PEER_STATUS["why"] = f"{type(err).__name__}: {err}; install the peers extra: pip install -e .[peers]"
         return None
+
+
+def _peer_versions() -> dict[str, str | None]:
+    """The versions the peer's speed depends on (its ratio to hippomaze moves with them)."""
+    from importlib import metadata
+
+    versions: dict[str, str | None] = {}
+    for package in ("gymnasium-robotics", "mujoco"):
+        try:
+            versions[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            versions[package] = None
+    return versions
 
 
 class _Timed:

@@ -24,10 +24,7 @@ import math
 import numpy as np
 import pymunk
 
-# pymunk's own C bindings: the very functions its properties and Space.step call, without the
-# Python wrapping around each (Vec2d objects, checks for features this module does not use).
-from pymunk._chipmunk_cffi import lib as _cp
-
+from hippo_env import _pymunk_fast
 from hippo_env.geometry import segments_clearance, wrap_angle
 from hippo_env.maze import MazeSpec
 
@@ -43,22 +40,37 @@ BLOCKED_TOLERANCE = 1e-4
 
 
 class RobotWorld:
-    """A pymunk space holding the maze's walls and the robot; rebuilt by :meth:`reset`.
+    """One pymunk space for the world's life: the maze's walls, added once, and the robot.
+
+    Each :meth:`reset` replaces the robot with a new body and shape in the same space. A new body
+    is needed for the same result on every reset: Chipmunk keeps solver state on a body that
+    pymunk does not expose, so moving the old one would carry it over. Keeping the space (instead
+    of building one per reset) leaves pymunk's objects to be freed only with the world.
+
+    A copy (``copy.deepcopy``, ``pickle``) gets what pymunk can read (the robot's pose and
+    velocities, the cached contacts) but not that solver state, so it is not always an exact
+    continuation of the original: at a wall, most often when the robot was pressing on one as it
+    was copied, the copy can end a step slightly elsewhere (micrometres, up to about a millimetre).
+
+    The calls on the hot path go through :mod:`hippo_env._pymunk_fast`: pymunk's C bindings where
+    they were checked, its public API elsewhere, with the same results. The world takes that
+    module's non-owning handles again whenever it replaces the robot and when it is unpickled;
+    it never keeps a handle past the pymunk object it came from.
 
     Args:
         maze: The maze whose walls the space holds.
         radius: The robot's radius in metres.
+        pymunk_calls: ``"cffi"``, ``"public"``, or ``None``/``"auto"`` (the C path where checked, unless the
+            environment variable ``HIPPO_ENV_PYMUNK=public``); see :func:`hippo_env._pymunk_fast.choose`.
     """
 
-    def __init__(self, maze: MazeSpec, radius: float = ROBOT_RADIUS) -> None:
+    def __init__(self, maze: MazeSpec, radius: float = ROBOT_RADIUS, pymunk_calls: str | None = None) -> None:
         self.maze = maze
         self.radius = float(radius)
         self.segments = maze.segments
-        self.sim_time = 0.0
-        self.reset((0.0, 0.0), 0.0)
-
-    def reset(self, position: tuple[float, float] | np.ndarray, heading: float) -> None:
-        """A new space (nothing carried over from earlier episodes) with the robot at a pose."""
+        self._calls = _pymunk_fast.choose(pymunk_calls)
+        self.pymunk_calls = self._calls.name
+        """Which implementation of the pymunk calls this world uses: ``"cffi"`` or ``"public"``."""
         space = pymunk.Space()
         space.collision_slop = 1e-4
         space.iterations = 20
@@ -67,6 +79,16 @@ class RobotWorld:
             wall.friction = 0.0
             wall.elasticity = 0.0
             space.add(wall)
+        self.space = space
+        self.body: pymunk.Body | None = None
+        self.shape: pymunk.Circle | None = None
+        self.sim_time = 0.0
+        self.reset((0.0, 0.0), 0.0)
+
+    def reset(self, position: tuple[float, float] | np.ndarray, heading: float) -> None:
+        """A new robot body and shape at a pose, in place of the old ones (nothing carried over)."""
+        if self.body is not None:
+            self.space.remove(self.shape, self.body)
         body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0.0, self.radius))
         body.position = (float(position[0]), float(position[1]))
         body.angle = float(heading)
@@ -75,35 +97,40 @@ class RobotWorld:
         shape = pymunk.Circle(body, self.radius + SKIN)
         shape.friction = 0.0
         shape.elasticity = 0.0
-        space.add(body, shape)
-        self.space, self.body, self.shape = space, body, shape
-        self._cp_space, self._cp_body = space._space, body._body
+        self.space.add(body, shape)
+        _pymunk_fast.settle(self.space)  # pymunk lets go of the old robot now, not at its next public step
+        self.body, self.shape = body, shape
+        self._h_space, self._h_body = self._calls.handles(self.space, body)
         self._mass, self._moment = body.mass, body.moment
         self.sim_time = 0.0
         self._last_dt = math.inf
 
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
-        del state["_cp_space"], state["_cp_body"]  # raw C pointers: taken again from the pymunk objects
+        # The calls and handles are taken again on unpickling (in this process or another).
+        del state["_calls"], state["_h_space"], state["_h_body"]
         return state
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
-        self._cp_space, self._cp_body = self.space._space, self.body._body
+        # A public world stays public; the C path only where this process can (and may) use it.
+        self._calls = _pymunk_fast.choose("public" if self.pymunk_calls == "public" else None)
+        self.pymunk_calls = self._calls.name
+        self._h_space, self._h_body = self._calls.handles(self.space, self.body)
 
     @property
     def position(self) -> tuple[float, float]:
-        p = _cp.cpBodyGetPosition(self._cp_body)
+        p = self._calls.get_position(self._h_body)
         return (p.x, p.y)
 
     @property
     def heading(self) -> float:
         """Compass heading in (-pi, pi]."""
-        return wrap_angle(_cp.cpBodyGetAngle(self._cp_body))
+        return wrap_angle(self._calls.get_angle(self._h_body))
 
     def clearance(self) -> float:
         """Distance from the robot's centre to the nearest wall."""
-        p = _cp.cpBodyGetPosition(self._cp_body)
+        p = self._calls.get_position(self._h_body)
         return segments_clearance(p.x, p.y, self.segments)
 
     def drive_heading(self, heading: float) -> bool:
@@ -111,9 +138,10 @@ class RobotWorld:
 
         Returns whether a wall blocked the robot.
         """
-        turn = abs(wrap_angle(heading - _cp.cpBodyGetAngle(self._cp_body)))
+        calls, body = self._calls, self._h_body
+        turn = abs(wrap_angle(heading - calls.get_angle(body)))
         self.sim_time += turn / TURN_RATE
-        _cp.cpBodySetAngle(self._cp_body, wrap_angle(heading))
+        calls.set_angle(body, wrap_angle(heading))
         return self.drive_wheels(1.0, 1.0)
 
     def drive_wheels(self, left: float, right: float) -> bool:
@@ -123,26 +151,26 @@ class RobotWorld:
         """
         speed = MAX_SPEED * (left + right) / 2.0
         spin = MAX_SPEED * (right - left) / AXLE_LENGTH
-        body = self._cp_body
-        start = _cp.cpBodyGetPosition(body)
+        calls, body = self._calls, self._h_body
+        start = calls.get_position(body)
         start_x, start_y = start.x, start.y
-        start_angle = _cp.cpBodyGetAngle(body)
+        start_angle = calls.get_angle(body)
         gap = segments_clearance(start_x, start_y, self.segments) - self.radius
         velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
         if gap > abs(speed) * CONTROL_DT + SKIN:
             # No wall within reach: one physics step integrates the whole control step.
-            _cp.cpBodySetVelocity(body, velocity)
-            _cp.cpBodySetAngularVelocity(body, spin)
-            _cp.cpSpaceStep(self._cp_space, CONTROL_DT)
+            calls.set_velocity(body, velocity)
+            calls.set_angular_velocity(body, spin)
+            calls.space_step(self._h_space, CONTROL_DT)
             self._last_dt = CONTROL_DT
         else:
             self._drive_near_walls(speed, spin)
-        _cp.cpBodySetVelocity(body, (0.0, 0.0))
-        _cp.cpBodySetAngularVelocity(body, 0.0)
+        calls.set_velocity(body, (0.0, 0.0))
+        calls.set_angular_velocity(body, 0.0)
         self.sim_time += CONTROL_DT
         # Where the robot would have ended with no wall in the way.
         end_x, end_y = start_x + velocity[0] * CONTROL_DT, start_y + velocity[1] * CONTROL_DT
-        p = _cp.cpBodyGetPosition(body)
+        p = calls.get_position(body)
         return math.hypot(p.x - end_x, p.y - end_y) > BLOCKED_TOLERANCE
 
     def _drive_near_walls(self, speed: float, spin: float) -> None:
@@ -155,7 +183,7 @@ class RobotWorld:
         (pymunk scales its cached contact impulses by the ratio of successive time steps)
         until the robot is clear of every wall, when one step finishes the control step.
         """
-        body, space, segments = self._cp_body, self._cp_space, self.segments
+        body, space, segments = self._h_body, self._h_space, self.segments
         mass, moment = self._mass, self._moment
         dt = CONTROL_DT if speed == 0 else min(CONTROL_DT, SKIN / abs(speed))
         substeps = round(CONTROL_DT / dt)
@@ -166,17 +194,17 @@ class RobotWorld:
             # dt / last dt and kick the robot through the wall: forget them.
             self.space.remove(self.shape)
             self.space.add(self.shape)
-        cp = _cp  # the C functions, bound once: this loop is the simulator's hot path
+        calls = self._calls  # the calls, bound once: this loop is the simulator's hot path
         get_angle, get_velocity, get_spin, get_position = (
-            cp.cpBodyGetAngle,
-            cp.cpBodyGetVelocity,
-            cp.cpBodyGetAngularVelocity,
-            cp.cpBodyGetPosition,
+            calls.get_angle,
+            calls.get_velocity,
+            calls.get_angular_velocity,
+            calls.get_position,
         )
-        set_force, set_torque, space_step = cp.cpBodySetForce, cp.cpBodySetTorque, cp.cpSpaceStep
+        set_force, set_torque, space_step = calls.set_force, calls.set_torque, calls.space_step
         radius, travel, skin = self.radius, abs(speed), SKIN
         remaining = CONTROL_DT
-        cp.cpBodySetVelocity(body, (0.0, 0.0))
+        calls.set_velocity(body, (0.0, 0.0))
         priming = True
         angle = target_dt = None
         while remaining > 1e-12:

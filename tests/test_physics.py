@@ -3,7 +3,13 @@ sequence of actions puts it into (or closer than its radius to) a wall."""
 
 from __future__ import annotations
 
+import copy
+import gc
 import math
+import pickle
+import re
+import weakref
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -12,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import hippo_env
-from hippo_env import HippoMazeEnv, physics
+from hippo_env import HippoMazeEnv, MazeSpec, _pymunk_fast, physics
 
 R = physics.ROBOT_RADIUS
 STEP = physics.MAX_SPEED * physics.CONTROL_DT  # 0.15 m
@@ -201,3 +207,139 @@ def test_robot_never_enters_a_wall(maze, action_type, data, seed):
                 f"outside the arena: {abs(position[0]) >= hw or abs(position[1]) >= hh}"
             )
             assert not terminated
+
+
+# ---------------------------------------------------------------------- pymunk calls and the world's lifetime
+needs_c_path = pytest.mark.skipif(_pymunk_fast.CFFI is None, reason=f"no C path here: {_pymunk_fast.CFFI_UNAVAILABLE}")
+
+
+def trajectory(maze, action_type, steps=400, seed=0):
+    """Positions, headings, collisions and simulated times of seeded random actions, with resets
+    (plain, with a start and heading, with a goal) every 100 steps."""
+    env = HippoMazeEnv(maze=maze, action_type=action_type, n_rays=8)
+    env.action_space.seed(seed)
+    rng = np.random.default_rng(seed)
+    _, info = env.reset(seed=seed)
+    rows = []
+    for t in range(1, steps + 1):
+        # Wheel commands mostly forward, to meet walls.
+        action = np.clip(rng.normal(0.7, 0.4, 2), -1, 1).astype(np.float32) if action_type == "wheels" else env.action_space.sample()
+        _, _, terminated, _, info = env.step(action)
+        rows.append((*info["position"], info["heading"], info["collision"], info["sim_time"]))
+        if terminated or t % 100 == 0:
+            start = env.maze.sample_free(rng, 0.4, away_from=env.goal, min_distance=1.0)
+            options = [None, {"start": list(start), "heading": float(rng.uniform(-3, 3))}, {"goal": list(env.maze.sample_free(rng, 0.5))}][
+                t // 100 % 3
+            ]
+            _, info = env.reset(options=options)
+            rows.append((*info["position"], info["heading"], -1, info["sim_time"]))
+    return env.world.pymunk_calls, np.array(rows)
+
+
+@needs_c_path
+@pytest.mark.parametrize("action_type", ["discrete", "heading", "wheels"])
+@pytest.mark.parametrize("maze", hippo_env.BUILTIN_MAZES)
+def test_c_path_and_public_api_agree_bit_for_bit(maze, action_type, monkeypatch):
+    monkeypatch.delenv(_pymunk_fast.ENV_VAR, raising=False)
+    fast, expected = trajectory(maze, action_type)
+    monkeypatch.setenv(_pymunk_fast.ENV_VAR, "public")
+    public, got = trajectory(maze, action_type)
+    assert (fast, public) == ("cffi", "public")
+    assert (got[:, 3] == 1).sum() > 5  # the robot met walls
+    np.testing.assert_array_equal(got, expected)
+
+
+def test_the_c_path_is_used_on_the_checked_pymunk_versions():
+    major_minor = ".".join(pymunk_version().split(".")[:2])
+    assert (_pymunk_fast.CFFI is not None) == (major_minor in _pymunk_fast.CHECKED_PYMUNK), _pymunk_fast.CFFI_UNAVAILABLE
+
+
+def pymunk_version():
+    import pymunk
+
+    return pymunk.version
+
+
+def test_choosing_the_pymunk_calls(monkeypatch):
+    monkeypatch.delenv(_pymunk_fast.ENV_VAR, raising=False)
+    assert _pymunk_fast.choose("public") is _pymunk_fast.PUBLIC
+    assert _pymunk_fast.choose() is (_pymunk_fast.CFFI or _pymunk_fast.PUBLIC)
+    assert _pymunk_fast.choose("cffi") is (_pymunk_fast.CFFI or _pymunk_fast.PUBLIC)
+    monkeypatch.setenv(_pymunk_fast.ENV_VAR, "public")
+    assert _pymunk_fast.choose() is _pymunk_fast.PUBLIC
+    assert physics.RobotWorld(MazeSpec.load("open")).pymunk_calls == "public"
+    with pytest.raises(ValueError, match="unknown; allowed: auto, cffi, public"):
+        _pymunk_fast.choose("fast")
+    monkeypatch.setenv(_pymunk_fast.ENV_VAR, "fast")
+    with pytest.raises(ValueError, match="HIPPO_ENV_PYMUNK='fast' is unknown"):
+        _pymunk_fast.choose()
+
+
+def test_only_the_fast_module_names_pymunk_privates():
+    pattern = re.compile(r"_chipmunk_cffi|\._space\b|\._body\b|\._shape\b")
+    package = Path(hippo_env.__file__).parent
+    offenders = [
+        f"{path.name}:{n}: {line.strip()}"
+        for path in sorted(package.rglob("*.py"))
+        if path.name != "_pymunk_fast.py"
+        for n, line in enumerate(path.read_text().splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not offenders
+
+
+@pytest.mark.parametrize("pymunk_calls", ["cffi", "public"])
+def test_one_space_for_the_worlds_life(pymunk_calls):
+    """Resets put a new robot into the same space; the old robot is let go (nothing piles up)."""
+    world = physics.RobotWorld(MazeSpec.load("maze1"), pymunk_calls=pymunk_calls)
+    space, walls = world.space, len(world.space.shapes)
+    old = [weakref.ref(world.body), weakref.ref(world.shape)]
+    for k in range(5):
+        world.reset((-3.0, 0.5 + 0.1 * k), 1.0)
+        world.drive_heading(math.pi / 2)  # into maze1's wall: contacts, substeps
+        world.drive_heading(math.pi / 2)
+    assert world.space is space and len(space.shapes) == walls and list(space.bodies) == [world.body]
+    gc.collect()
+    assert all(ref() is None for ref in old)
+
+
+@pytest.mark.parametrize("pymunk_calls", ["cffi", "public"])
+def test_a_reset_world_moves_as_a_new_one(pymunk_calls):
+    """After a reset, nothing of the last episode (contacts, solver state) changes the motion."""
+    maze = MazeSpec.load("maze1")
+    used = physics.RobotWorld(maze, pymunk_calls=pymunk_calls)
+    used.reset((-3.0, 0.9), 1.5)
+    for _ in range(6):
+        used.drive_wheels(1.0, 0.7)  # pushing into the wall above
+    commands = [(1.0, 0.9), (0.4, 1.0), (1.0, 1.0), (-0.5, 1.0), (1.0, 1.0), (1.0, 0.2)] * 3
+    paths = []
+    for world in (used, physics.RobotWorld(maze, pymunk_calls=pymunk_calls)):
+        world.reset((-3.0, 1.05), 1.4)
+        paths.append([(world.drive_wheels(*c), world.position, world.heading) for c in commands])
+    assert any(collision for collision, _, _ in paths[0])
+    assert paths[0] == paths[1]
+
+
+@pytest.mark.parametrize("copier", [copy.deepcopy, lambda w: pickle.loads(pickle.dumps(w))], ids=["deepcopy", "pickle"])
+def test_a_copied_world_has_its_own_robot(copier):
+    world = physics.RobotWorld(MazeSpec.load("open"))
+    world.reset((0.0, 0.0), 0.0)
+    world.drive_heading(0.5)
+    state = world.__getstate__()
+    assert not {"_calls", "_h_space", "_h_body"} & set(state)  # no C pointers in a pickle
+    twin = copier(world)
+    assert twin.pymunk_calls == world.pymunk_calls and twin.position == world.position and twin.heading == world.heading
+    twin.drive_heading(2.0)
+    assert twin.position != world.position  # the copy drives its own body, not the original's
+    world.drive_heading(2.0)
+    assert twin.position == world.position  # in the open, a copy continues exactly
+
+
+def test_an_unpickled_world_chooses_its_calls_again(monkeypatch):
+    """A pickle holds no C pointers: the unpickled world takes its calls (and handles) in the new process."""
+    monkeypatch.delenv(_pymunk_fast.ENV_VAR, raising=False)
+    fast, public = (pickle.dumps(physics.RobotWorld(MazeSpec.load("open"), pymunk_calls=c)) for c in ("auto", "public"))
+    assert pickle.loads(public).pymunk_calls == "public"
+    assert pickle.loads(fast).pymunk_calls == _pymunk_fast.choose().name
+    monkeypatch.setenv(_pymunk_fast.ENV_VAR, "public")
+    assert pickle.loads(fast).pymunk_calls == "public"

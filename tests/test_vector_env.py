@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 
 import gymnasium as gym
 import numpy as np
@@ -39,6 +41,25 @@ def test_make_vec(mode):
         assert saw_truncation
     finally:
         envs.close()
+
+
+@pytest.mark.parametrize("mode", ["sync", "async"])
+def test_make_vec_with_its_defaults_survives_resets(mode):
+    """Issue 20: ``gym.make_vec`` with its defaults, then ``reset``, killed the interpreter. In a
+    fresh process, so that a crash fails this test instead of pytest."""
+    code = """
+import sys
+import gymnasium as gym, hippo_env
+envs = gym.make_vec("HippoMaze-v0", num_envs=2, vectorization_mode=sys.argv[1])
+envs.reset(seed=0)
+for k in range(4):
+    envs.step(envs.action_space.sample())
+    envs.reset(seed=k, options={"start": [-1.0 + 0.5 * k, 2.0], "heading": 0.3 * k})
+envs.close()
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", code, mode], capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", f"exit code {done.returncode}\nstderr:\n{done.stderr[-4000:]}"
 
 
 def test_make_vec_is_reproducible():
