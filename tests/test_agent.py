@@ -194,7 +194,9 @@ def test_dry_run_resets_on_truncation():
 
 def test_exploration_is_a_random_walk_of_straight_segments():
     env = make_env(seed=1)
-    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=100, discrete_rounding="nearest", exploration="random"), seed=1)
+    agent = HippocampalAgent(
+        env.observation_space, env.action_space, AgentConfig(n_place=100, discrete_rounding="nearest", exploration="random"), seed=1
+    )
     _, positions, actions = drive_run(env, agent, options={"goal": None}, max_steps=2000)
     actions = np.array(actions)
     assert set(actions) == set(range(8))  # all directions get used
