@@ -22,6 +22,9 @@ the agent never does) and measures, per maze:
   position in the agent's frame over the anchored steps of the DMTP runs (the dry run's, whose frame
   starts where the robot stands, separately), the share of runs *misplaced* (anchored more than
   1 m off on most of their steps), and the steps from a run's start to anchoring.
+- **dry-run coverage**: the share of the free ground the robot's centre came within 0.5 m of
+  against dry-run steps (``benchmarks.coverage``): steps to 80 % and 95 % and the share at the dry
+  run's end, median over trials, and a figure of the curves beside the JSON (``.coverage.png``).
 - ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
   estimate is replaced by the true position at every step (exact self-localisation).
 
@@ -41,6 +44,7 @@ import numpy as np
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
+from benchmarks.coverage import coverage_curve, plot_curves, steps_to
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.cells import PathIntegrator
 from hippo_env.dmtp import run_dmtp
@@ -139,7 +143,10 @@ class Watcher:
             agent.pi = pi
         self.run = -1
         self.in_dry_run = False
-        self.dry_pi_errors: list[float] = []  # the dry run's (its frame starts where the robot stands)
+        self.dry_pi_errors: list[float] = []
+        self.dry_positions: list[
+            np.ndarray
+        ] = []  # the true positions of the dry run, for its coverage  # the dry run's (its frame starts where the robot stands)
         self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
         self.anchor_steps: list[int] = []
         self.progress: list[float] = []
@@ -216,6 +223,8 @@ class Watcher:
 
     def _saw(self, info: dict[str, Any], reset: bool) -> None:
         position = np.asarray(info["position"], float)
+        if self.in_dry_run and not reset:
+            self.dry_positions.append(position)
         if self.origin is None:
             self.origin = position.copy()
         if reset:
@@ -247,8 +256,13 @@ class Watcher:
         return [e for run in self.run_pi_errors for e in run]
 
 
-def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
-    """Run the trials and measure; returns the record written to JSON."""
+def spec_name(maze: str) -> str:
+    return MazeSpec.load(maze).name
+
+
+def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
+    """Run the trials and measure; returns the record written to JSON and each trial's dry-run
+    coverage curve."""
     spec = MazeSpec.load(args.maze)
     overrides = {} if args.dry_run_steps < 0 else {"dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
@@ -305,6 +319,7 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         return float(np.median(values)) if values else None
 
     later = ind[:, 1:]
+    coverage = [coverage_curve(spec, np.array(w.dry_positions)) for w in watchers if w.dry_positions]
     run_errors = [e for w in watchers for e in w.pi_errors]
     # a run is misplaced when its estimate was more than MISPLACED m off on most of its anchored steps
     misplaced = [float(np.median(run) > MISPLACED) for w in watchers for run in w.run_pi_errors if run]
@@ -339,10 +354,14 @@ def diagnose(args: DiagnoseArgs) -> dict[str, Any]:
         "pi_error_dry_run_median_m": med([e for w in watchers for e in w.dry_pi_errors]),
         "runs_misplaced_share": float(np.mean(misplaced)) if misplaced else None,
         "anchor_steps_median": med([float(s) for w in watchers for s in w.anchor_steps]),
+        "dry_run_steps_median": med([float(c.size) for c in coverage]),
+        "dry_run_coverage_steps_to_80": med([steps_to(c, 0.8) for c in coverage]),
+        "dry_run_coverage_steps_to_95": med([steps_to(c, 0.95) for c in coverage]),
+        "dry_run_coverage_at_end": med([float(c[-1]) for c in coverage]),
         "env_steps_total": result.env_steps_total,
         "per_trial": per_trial,
     }
-    return record
+    return record, coverage
 
 
 def replay_reach(agent: HippocampalAgent, env: Any, spec: MazeSpec, goal: np.ndarray) -> list[tuple[float, float]]:
@@ -381,12 +400,17 @@ def field_peaks(agent: HippocampalAgent, env: Any, spacing: float = 0.25) -> np.
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(DiagnoseArgs, __doc__.splitlines()[0], argv)
     load_start = load_average()
-    record = diagnose(args)
+    record, coverage = diagnose(args)
     record.update({"command": command_line(), "machine": machine_info(), "load_start": load_start, "load_end": load_average()})
     suffix = "-paper" if args.paper else "-oracle" if args.oracle else ""
     out = Path(args.out) if args.out else REPO / "benchmarks" / "results" / "diagnose" / f"{Path(args.maze).stem}{suffix}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(record, indent=1) + "\n")
+    if coverage:
+        plot_curves(
+            {spec_name(args.maze): {"directed" if record["config"]["exploration"] == "directed" else "random": coverage}},
+            out.with_suffix(".coverage.png"),
+        )
     shown = {k: v for k, v in record.items() if k not in ("per_trial", "config", "machine")}
     for k, v in shown.items():
         print(f"{k}: {json.dumps(v)}")

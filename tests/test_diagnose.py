@@ -33,7 +33,7 @@ def test_twins_and_similarity_across_walls():
 def test_diagnose_runs_and_reports_every_measure(tmp_path):
     path = tmp_path / "small.json"
     path.write_text('{"name": "small", "size": [4.0, 4.0], "obstacles": []}')
-    record = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, config='{"n_place": 300}'))
+    record, coverage = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, config='{"n_place": 300}'))
     for key in (
         "twins",
         "reward_map_spearman",
@@ -44,8 +44,11 @@ def test_diagnose_runs_and_reports_every_measure(tmp_path):
         "runs_misplaced_share",
         "anchor_steps_median",
         "exploit_fallback_share",
+        "dry_run_coverage_at_end",
     ):
         assert key in record
+    assert len(coverage) == 1 and 0 < record["dry_run_coverage_at_end"] <= 1
+    assert np.all(np.diff(coverage[0]) >= 0)  # coverage never falls
     assert record["pi_error_dry_run_median_m"] is not None and record["pi_error_dry_run_median_m"] < 0.2
     assert record["pi_error_median_m"] is not None and record["runs_misplaced_share"] is not None
     assert record["trials"] == 1 and len(record["indirectness_median_per_run"]) == 4
