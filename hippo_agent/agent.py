@@ -59,8 +59,8 @@ PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate o
 BUMP_DISTANCE = 0.3  # m ahead of the robot's centre: where a bump marks a wall in the exploration map
 RECRUIT_EVERY = 50  # steps between checks of whether the place cells run short (dry run)
 RECRUIT_MIN = 250  # place cells recruited at least at a time
-PLAN_PATIENCE = 3
-FIT_RATE = 0.1  # per step: the running mean of the scan's fit to the map spans about 10 steps  # steps in a row with nowhere unvisited to go before the sweep counts as done
+PLAN_PATIENCE = 3  # steps in a row with nowhere unvisited to go before the sweep counts as done
+FIT_RATE = 0.1  # per step: the running mean of the scan's fit to the map spans about 10 steps
 
 
 def _describe_space(space: Any) -> str:
@@ -517,7 +517,9 @@ class HippocampalAgent:
         saved = place.v, place.trace, place.hd_trace
         remembered = np.fromiter(self.codes.keys(), dtype=np.int64)
         try:
-            while budget > 0:
+            for _ in range(budget):  # (at most as many transits as steps: each usually takes dozens)
+                if budget <= 0:
+                    break
                 start = self.map.centre(int(remembered[self.rng.integers(remembered.size)]))
                 target = self._transit_destination(np.asarray(start))
                 if target < 0:
