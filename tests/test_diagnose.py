@@ -59,3 +59,10 @@ def test_maze_suite_runs_a_generated_maze():
     assert MazeSpec.load(maze_source("gen-walls-100")).name == "gen-walls-100"
     row = one("paper", "open", seed=0, trials=1, dry_run_steps=200, config_json='{"n_place": 200}')
     assert row["trials"] == 1 and len(row["median_per_run"]) == 4 and row["env_steps_total"] > 200
+
+
+def test_oracle_diagnosis_runs_with_the_true_position(tmp_path):
+    path = tmp_path / "small.json"
+    path.write_text('{"name": "small", "size": [4.0, 4.0], "obstacles": []}')
+    record, _ = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, oracle=True, config='{"n_place": 300}'))
+    assert record["oracle_privileged"] and record["pi_error_median_m"] < 1e-9
