@@ -149,6 +149,7 @@ class HippocampalAgent:
         self.plan_failures = 0  # consecutive steps with nowhere to go
         self.fit = 1.0  # running mean of how well the scan fits the map at the estimate (runs)
         self._scan: tuple[np.ndarray, float] | None = None  # the scan being processed: (ranges, heading)
+        self._candidates: np.ndarray | None = None  # walkable map places, while the estimate is lost
         self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
 
     # ================================================================== spaces
@@ -258,7 +259,8 @@ class HippocampalAgent:
             self.fit = 1.0
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
-            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
+            self._candidates = None
+            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood, proposals=self._map_proposals)
             if self.pi.anchored:
                 self.place.settle(b, self._pi_input(), self.config.settle_steps)
         else:
@@ -314,7 +316,8 @@ class HippocampalAgent:
             self.pi.move(self._odometry_step(observation, heading_vec))
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, self._corrected_pi_input)
-            plastic = self.pi.anchored  # no learning while the robot does not know where it is
+            # no learning while the robot does not know where it is, or doubts it (the scan fits the map poorly)
+            plastic = self.pi.anchored and self.fit >= c.learn_agreement
         else:
             self.place.step(b)
         dry = self.phase == "dry"
@@ -331,13 +334,14 @@ class HippocampalAgent:
             self.place.learn_pp()
         self.place.update_trace()
         if self.map is not None and self.pi.anchored:
-            self.map.observe(self.pi.estimate, heading, ranges, self.max_range)
+            if self.total_steps % c.map_every == 0:
+                self.map.observe(self.pi.estimate, heading, ranges, self.max_range, learn=dry or c.map_in_runs)
             if dry:
                 if self.total_steps % RECRUIT_EVERY == 0:
                     self._recruit()
                 active = np.flatnonzero(self.place.v > 0.0)
                 self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, self.place.v[active])
-            if collision:
+            if collision and (dry or c.map_in_runs):
                 self.map.mark_bump(self.pi.estimate, heading, BUMP_DISTANCE)
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
@@ -372,7 +376,7 @@ class HippocampalAgent:
         """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
         run, with the exploration map, :meth:`_map_likelihood`); the path-integration drive if
         anchored, else ``None`` (the boundary code alone drives the place cells)."""
-        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
+        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood, proposals=self._map_proposals)
         self._check_localisation()
         return self._pi_input() if self.pi.anchored else None
 
@@ -385,17 +389,37 @@ class HippocampalAgent:
         ranges, heading = self._scan
         return np.exp(self.config.map_beta * self.map.scan_agreement(particles, heading, ranges, self.max_range))
 
+    def _map_proposals(self) -> np.ndarray | None:
+        """While a run's estimate is not anchored: ``map_proposals`` walkable places drawn with
+        probability ``exp(map_beta * agreement)`` of the current scan with the exploration map
+        there (global localisation from the map, which also holds the places the place code's
+        vote leaves out, and every look-alike of them). ``None`` when off."""
+        c = self.config
+        if self.map is None or c.map_proposals == 0 or self.phase == "dry" or self.pi.anchored or self._scan is None:
+            return None
+        if self._candidates is None:  # the map does not change while the robot is lost
+            self._candidates = self.map.walkable_points()
+        if self._candidates.shape[0] == 0:
+            return None
+        ranges, heading = self._scan
+        fit = self.map.scan_agreement(self._candidates, heading, ranges, self.max_range)
+        p = np.exp(c.map_beta * (fit - fit.max()))
+        return self._candidates[self.rng.choice(fit.size, size=c.map_proposals, p=p / p.sum())]
+
     def _check_localisation(self) -> None:
         """In a run, once anchored: a running mean of how well the scan fits the map at the
         estimate; when it falls below ``lost_agreement``, the estimate is at a look-alike place:
         anchor afresh."""
-        if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None:
+        every = self.config.map_every
+        if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None or self.total_steps % every:
             return
         ranges, heading = self._scan
         here = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0]
-        self.fit = (1.0 - FIT_RATE) * self.fit + FIT_RATE * here
+        rate = min(1.0, FIT_RATE * every)
+        self.fit = (1.0 - rate) * self.fit + rate * here
         if self.fit < self.config.lost_agreement:
             self.pi.lose()
+            self._candidates = None
             self.fit = 1.0
 
     # ================================================================== learning

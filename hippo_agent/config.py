@@ -218,9 +218,33 @@ class AgentConfig:
     """While a run's estimate is not anchored, each path-integration sample is weighed by
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
     exploration map seen from there (``ExplorationMap.scan_agreement``)."""
+    map_every: int = 1
+    """The exploration map takes every ``map_every``-th scan, and the scan's fit to the map at the
+    estimate (``lost_agreement``) is checked as often: at 0.15 m a step, every second scan still
+    lands within a map cell of the last."""
+    map_proposals: int = 0
+    """While a run's estimate is not anchored, the exploration map also proposes where the robot
+    may be: this many walkable places (of every second map cell), drawn with probability
+    ``exp(map_beta * agreement)`` of the current scan with the map there; ``pi_proposal_share`` of
+    the redrawn samples are drawn around them. 0 = off."""
+    pi_proposal_share: float = 0.5
+    """Share of the redrawn samples drawn from the map's proposals (``map_proposals``)."""
+    pi_lost_vote_floor: float = 1e-3
+    """While not anchored, the floor added to the place code's vote for each sample (1e-3 once
+    anchored): a higher floor makes the vote weaker evidence against places it does not propose."""
+    pi_collapse_on_anchor: bool = False
+    """On anchoring, the samples outside the anchored cluster are dropped, so that a look-alike
+    place that the boundary code's vote favours cannot take the estimate over afterwards."""
     lost_agreement: float = 0.4
     """Once anchored, when the running mean of the scan's agreement with the map at the estimate
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
+    learn_agreement: float = -1.0
+    """In a run, the cells learn only while that running mean is at least this (-1: whenever
+    anchored): an estimate at a look-alike place would teach the place code the wrong place."""
+    map_in_runs: bool = True
+    """The exploration map also takes in walls and free ground during runs (else only the dry run
+    builds it, and runs mark where they searched): a run anchored at a look-alike place would
+    write that place's walls into the wrong part of the map."""
     transit_min_distance: float = 3.0
     """A transit's destination lies at least this far (m, along the path) from where it starts."""
 
@@ -357,6 +381,10 @@ class AgentConfig:
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
+        unit_interval("pi_proposal_share", "pi_lost_vote_floor", open_low=False)
+        non_negative("map_proposals")
+        if self.map_every < 1:
+            raise bad("map_every", "an integer >= 1")
         if self.exploration not in ("random", "directed"):
             raise bad("exploration", "'random' or 'directed'")
         if self.exploration == "directed" and not self.path_integration:
@@ -365,8 +393,9 @@ class AgentConfig:
         non_negative("transit_factor", "transit_min_distance", "rest_factor")
         positive("imagined_step")
         non_negative("map_beta", "pi_min_anchor_steps")
-        if not -1 <= self.lost_agreement <= 1:
-            raise bad("lost_agreement", "a value in [-1, 1]")
+        for name in ("lost_agreement", "learn_agreement"):
+            if not -1 <= getattr(self, name) <= 1:
+                raise bad(name, "a value in [-1, 1]")
         non_negative("place_cells_per_m2")
 
         if self.discrete_rounding not in ("stochastic", "nearest"):
@@ -418,6 +447,9 @@ class AgentConfig:
             "anchor_radius": self.pi_anchor_radius,
             "anchor_weight": self.pi_anchor_weight,
             "redraw_fraction": self.pi_redraw_fraction,
+            "lost_vote_floor": self.pi_lost_vote_floor,
+            "proposal_share": self.pi_proposal_share,
+            "collapse_on_anchor": self.pi_collapse_on_anchor,
             "lag": (1.0 - self.k) / self.k,
             "min_anchor_steps": self.pi_min_anchor_steps,  # eq. 3's Euler update lags the input by this many steps
         }

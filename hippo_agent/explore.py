@@ -67,15 +67,17 @@ class ExplorationMap:
         self._search_id = np.zeros(1, dtype=np.int32)
 
     # ------------------------------------------------------------------ senses
-    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> None:
+    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, learn: bool = True) -> None:
         """Enter one scan (egocentric ``ranges``, ray ``i`` at ``heading + 2 pi i / n``) seen from
-        ``position`` (frame metres), and mark the cells around ``position`` visited and searched."""
+        ``position`` (frame metres), and mark the cells around ``position`` visited and searched.
+        With ``learn=False`` only the marks are made: the walls and free ground stay as they are."""
         n_rays = ranges.size
         stride = max(1, round(n_rays * RAY_STRIDE_DEG / 360.0))
-        _enter_scan(
-            self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
-            float(max_range), self.extent, self.cell, FREE_RANGE, HIT_RANGE,
-        )  # fmt: skip
+        if learn:
+            _enter_scan(
+                self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
+                float(max_range), self.extent, self.cell, FREE_RANGE, HIT_RANGE,
+            )  # fmt: skip
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         _mark_disk(self.searched, float(position[0]), float(position[1]), self.search_radius, self.extent, self.cell)
 
@@ -157,6 +159,14 @@ class ExplorationMap:
         """The frame coordinates of a cell's centre, from its flat index."""
         i, j = divmod(int(flat), self.n)
         return (i + 0.5) * self.cell - self.extent, (j + 0.5) * self.cell - self.extent
+
+    def walkable_points(self, stride: int = 2) -> np.ndarray:
+        """Frame coordinates (an (m, 2) array) of the centres of the walkable cells, every
+        ``stride``-th cell along each axis: the places the map says the robot could stand."""
+        n = self.n
+        out = np.empty((n * n // (stride * stride) + n, 2))
+        m = _walkable_points(self.free, self.hits, stride, self.extent, self.cell, out)
+        return out[:m].copy()
 
     @property
     def known_free(self) -> np.ndarray:
@@ -244,6 +254,19 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
             elif free[i, j] > 0:
                 total -= 1.0
         out[p] = total / counted if counted else 0.0
+
+
+@njit(cache=True)
+def _walkable_points(free, hits, stride, extent, cell, out):  # pragma: no cover - compiled
+    n = free.shape[0]
+    m = 0
+    for i in range(1, n - 1, stride):
+        for j in range(1, n - 1, stride):
+            if free[i, j] > 0 and _walkable(free, hits, i, j):
+                out[m, 0] = (i + 0.5) * cell - extent
+                out[m, 1] = (j + 0.5) * cell - extent
+                m += 1
+    return m
 
 
 @njit(cache=True)

@@ -49,6 +49,18 @@ def test_planner_goes_to_unvisited_ground_until_none_is_left():
     assert m.heading_to_unvisited(np.zeros(2), this_run=True) is not None
 
 
+def test_walkable_points_lie_on_known_ground_clear_of_walls():
+    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    assert m.walkable_points().shape == (0, 2)  # nothing known yet
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    points = m.walkable_points()
+    assert len(points) > 10
+    distance = np.hypot(points[:, 0], points[:, 1])
+    assert distance.max() < 2.0 - m.cell  # a cell clear of the round wall
+    assert np.all([m.known_free[m.index(x, y)] for x, y in points])
+    assert len(m.walkable_points(stride=1)) > 3 * len(points)
+
+
 def test_path_goes_around_a_wall():
     m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
     m.free[:] = 1  # all free ...

@@ -117,6 +117,29 @@ def test_two_look_alike_places_stay_unresolved_until_the_senses_differ():
     assert pi.anchored and pi.estimate[0] > 1.5
 
 
+def test_a_place_the_vote_leaves_out_wins_when_proposed_and_the_map_fits_it_better():
+    """Look-alike rooms: the place code votes for the wrong room only. Proposals from the map put
+    samples in the right one, the map's fit there (the likelihood) outweighs the weakened vote,
+    and once anchored there the vote for the wrong room no longer pulls the estimate away."""
+    wrong, right = np.array([-2.5, 0.0]), np.array([2.5, 0.0])
+
+    def fit(particles):  # the scan fits the map best at the right place
+        return 1.0 + 9.0 * np.exp(-np.sum((particles - right) ** 2, axis=1) / (2 * 0.3**2))
+
+    def run(**kw):
+        pi = integrator(**kw)
+        pi.start_run()
+        pi.start_run()
+        for _ in range(25):
+            pi.correct(np.array([0.5]), wrong[None, :], likelihood=fit, proposals=lambda: right[None, :])
+        return pi
+
+    unaided = run()  # no proposals drawn, the vote's floor low: the right room never holds a sample
+    assert unaided.anchored and np.linalg.norm(unaided.estimate - wrong) < 0.5
+    aided = run(proposal_share=0.5, lost_vote_floor=0.2, collapse_on_anchor=True)
+    assert aided.anchored and np.linalg.norm(aided.estimate - right) < 0.5
+
+
 def test_cells_that_also_fire_at_a_look_alike_place_vote_weakly():
     pi = integrator()
     pi.start_run()

@@ -32,6 +32,12 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
     anchor_radius: samples within this distance (m) of the best one form its cluster.
     anchor_weight: the cluster's share of the weight at which a lost estimate counts as anchored.
     redraw_fraction: while lost, this share of the samples is drawn afresh from the vote each step.
+    lost_vote_floor: while lost, the vote's floor (:data:`VOTE_FLOOR` once anchored): the vote
+        is weaker evidence then, so that places it does not propose but a map fits can win.
+    proposal_share: while lost, this share of the redrawn samples comes from :meth:`correct`'s
+        ``proposals`` (when given) instead of the vote.
+    collapse_on_anchor: on anchoring, drop the samples outside the anchored cluster
+        (:meth:`_keep_cluster`).
     min_anchor_steps: a lost estimate is not anchored before this many corrections, so that
         evidence that accumulates (a map's fit, :meth:`correct`'s ``likelihood``) can single out
         one of several look-alike places.
@@ -72,6 +78,9 @@ class PathIntegrator:
         redraw_fraction: float,
         lag: float,
         min_anchor_steps: int = 0,
+        lost_vote_floor: float = VOTE_FLOOR,
+        proposal_share: float = 0.0,
+        collapse_on_anchor: bool = False,
     ) -> None:
         self.n_particles = int(n_particles)
         self.rng = rng
@@ -90,6 +99,9 @@ class PathIntegrator:
         self.fresh = False  # kidnapped and no sample drawn from the vote yet
         self.lag = float(lag)
         self.min_anchor_steps = int(min_anchor_steps)
+        self.lost_vote_floor = float(lost_vote_floor)
+        self.proposal_share = float(proposal_share)
+        self.collapse_on_anchor = bool(collapse_on_anchor)
         self.lost_steps = 0  # corrections since the estimate was last lost
         self.min_mapped = MIN_MAPPED
         self.last_step = np.zeros(2)
@@ -126,6 +138,7 @@ class PathIntegrator:
         mapped: float = 1.0,
         spreads: np.ndarray | None = None,
         likelihood: Callable[[np.ndarray], np.ndarray | None] | None = None,
+        proposals: Callable[[], np.ndarray | None] | None = None,
     ) -> None:
         """Weigh the samples by the sensory vote of cells with ``rates`` > 0 and ``centres``.
 
@@ -143,19 +156,25 @@ class PathIntegrator:
         ``likelihood(particles)``, if given, returns a further likelihood per sample (or ``None``
         for none), e.g. how well the current scan fits a map from there; it weighs the samples
         after the vote.
+
+        ``proposals()``, if given, returns candidate positions (an (m, 2) array, or ``None``) from
+        which, while lost, ``proposal_share`` of the redrawn samples are drawn: places that the
+        vote may not propose (a look-alike room whose cells the boundary code drives less).
         """
         if rates.size and (not self.anchored or mapped >= self.min_mapped):
             spreads = np.zeros(rates.size) if spreads is None else np.asarray(spreads, dtype=np.float64)
             if not self.anchored:
                 reliability = rates * (self.vote_sigma**2 / (self.vote_sigma**2 + spreads))  # each cell's say
-                self._redraw(reliability, centres, self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles))
+                n = self.n_particles if self.fresh else round(self.redraw_fraction * self.n_particles)
+                self._redraw(reliability, centres, n, None if proposals is None else proposals())
                 self.fresh = False
             # each sample's likelihood: the cells' Gaussians around their centres, where the sample was lag steps ago
             vote_var = self.vote_sigma**2
             gauss = np.empty((self.n_particles, rates.size))
             _kernels.vote_exponents(self.particles, self.lag, self.last_step, centres, spreads, vote_var, gauss)
             np.exp(gauss, out=gauss)  # (NumPy's vectorised exp: 4x faster than one call per value)
-            ess = _kernels.reweigh(gauss, rates, spreads, vote_var, VOTE_FLOOR, self.weights)
+            floor = VOTE_FLOOR if self.anchored else self.lost_vote_floor
+            ess = _kernels.reweigh(gauss, rates, spreads, vote_var, floor, self.weights)
             if ess < 0.5 * self.n_particles:
                 self._resample()
         if not self.anchored:
@@ -179,15 +198,32 @@ class PathIntegrator:
         """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
         return self.estimate - self.lag * self.last_step
 
-    def _redraw(self, rates: np.ndarray, centres: np.ndarray, n: int) -> None:
-        """Replace the ``n`` lightest samples by draws around the voted centres (while lost)."""
+    def _redraw(self, rates: np.ndarray, centres: np.ndarray, n: int, proposed: np.ndarray | None = None) -> None:
+        """Replace the ``n`` lightest samples by draws around the voted centres and, with
+        ``proposed`` positions, ``proposal_share`` of them around those (while lost)."""
         if n < 1:
             return
         which = np.argsort(self.weights)[:n]
-        cells = self.rng.choice(rates.size, size=n, p=rates / rates.sum())
-        self.particles[which] = centres[cells] + self.lag * self.last_step + self.rng.normal(0.0, self.vote_sigma, (n, 2))
+        n_proposed = 0 if proposed is None or len(proposed) == 0 else round(self.proposal_share * n)
+        cells = self.rng.choice(rates.size, size=n - n_proposed, p=rates / rates.sum())
+        drawn = centres[cells] + self.lag * self.last_step
+        if n_proposed:
+            drawn = np.concatenate((drawn, proposed[self.rng.integers(len(proposed), size=n_proposed)]))
+        self.particles[which] = drawn + self.rng.normal(0.0, self.vote_sigma, (n, 2))
         self.weights[which] = 1.0 / self.n_particles
         self.weights /= self.weights.sum()
+
+    def _keep_cluster(self) -> None:
+        """Anchoring commits to the cluster: the samples outside it are dropped (resampled from
+        the cluster), so that a look-alike place the vote still favours cannot take the estimate
+        over once the robot knows where it is (the map's fit, ``lost_agreement``, re-opens the
+        question if the commitment was wrong)."""
+        far = np.sum((self.particles - self.estimate) ** 2, axis=1) > (2 * self.anchor_radius) ** 2
+        if far.all():
+            return
+        self.weights[far] = 0.0
+        self.weights /= self.weights.sum()
+        self._resample()
 
     def _resample(self) -> None:
         """Systematic resampling: heavy samples are copied, light ones dropped."""
@@ -202,3 +238,5 @@ class PathIntegrator:
         self.estimate = np.array([x, y])
         if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight and self.lost_steps >= self.min_anchor_steps:
             self.anchored = True  # (a fresh belief is still where the last run ended: no evidence yet)
+            if self.collapse_on_anchor:
+                self._keep_cluster()
