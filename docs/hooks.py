@@ -124,9 +124,7 @@ def maze_suite() -> str:
         per_seed = {row["seed"]: row for row in found}
         builtin = maze in INDIRECTNESS_TARGET
         target = INDIRECTNESS_TARGET.get(maze, GENERATED_TARGET)
-        ok = all(
-            row["runs_2_4_median_miss_inf"] <= target and (builtin or row["runs_2_4_reached"] >= REACHED_TARGET) for row in found
-        )
+        ok = all(row["runs_2_4_median_miss_inf"] <= target and (builtin or row["runs_2_4_reached"] >= REACHED_TARGET) for row in found)
         dry_target = dry_run_target(maze)
         dry = [per_seed[s]["dry_run_steps_median"] for s in seeds if s in per_seed]
         ok_dry = dry_target is None or all(d <= dry_target for d in dry)
@@ -203,7 +201,10 @@ def switch_from_records(data: dict[str, Any]) -> str:
             elif switch.get("median_episodes") is None:
                 cells += [f"never ({switch.get('reached')}/{switch.get('seeds')})", f"> {num(switch.get('budget'))}"]
             else:
-                cells += [f"{num(switch['median_episodes'])} ({switch.get('reached')}/{switch.get('seeds')})", num(switch.get("median_steps"))]
+                cells += [
+                    f"{num(switch['median_episodes'])} ({switch.get('reached')}/{switch.get('seeds')})",
+                    num(switch.get("median_steps")),
+                ]
         rows.append([entry["agent"], *cells])
     return table(header, rows)
 
@@ -238,7 +239,10 @@ def paper_details() -> str:
 
 def paper_verdicts() -> str:
     rows = []
-    for label, name in (("the paper's model (`AgentConfig.paper()`)", "paper/paper.json"), ("the default model (`AgentConfig()`)", "paper_default/paper.json")):
+    for label, name in (
+        ("the paper's model (`AgentConfig.paper()`)", "paper/paper.json"),
+        ("the default model (`AgentConfig()`)", "paper_default/paper.json"),
+    ):
         claims = load(name)["claims"]
         targets = [c for c in claims if c["id"].startswith("T")]  # the project's own targets, not the paper's claims
         counts = {v: sum(c["verdict"] == v for c in claims if c not in targets) for v in ("reproduced", "partly", "not reproduced")}
@@ -266,12 +270,13 @@ def agent_throughput() -> str:
             ]
         )
     default = load("agent_throughput_default.json")["targets_1000_cells"]["steps_per_second"]["measured"]
-    note = (
-        f"\n\nIssue 21 asked the default model for {num(DEFAULT_SPEED_TARGET)} steps/s: "
-        + ("met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)}).")
+    note = f"\n\nIssue 21 asked the default model for {num(DEFAULT_SPEED_TARGET)} steps/s: " + (
+        "met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)})."
     )
-    return table(["agent, 1000 place cells, 720 rays, learning on", "steps/s exploiting", "x RatInABox"], rows) + note + source(
-        "agent_throughput.json", "agent_throughput_default.json"
+    return (
+        table(["agent, 1000 place cells, 720 rays, learning on", "steps/s exploiting", "x RatInABox"], rows)
+        + note
+        + source("agent_throughput.json", "agent_throughput_default.json")
     )
 
 
@@ -308,7 +313,9 @@ def env_throughput() -> str:
     text = table(["maze"] + [f"{r} rays (steps/s)" for r in rays], rows)
     peer = data.get("peer") or {}
     if peer.get("timed"):
-        text += f"\n\nAt 720 rays the slowest maze runs at {peer['min_x_peer_720_rays']}x Gymnasium-Robotics' `{peer['name']}` timed beside it."
+        text += (
+            f"\n\nAt 720 rays the slowest maze runs at {peer['min_x_peer_720_rays']}x Gymnasium-Robotics' `{peer['name']}` timed beside it."
+        )
     load_note = data.get("machine", {}).get("load_average_at_start")
     if load_note:
         text += f" Load average at the start: {load_note[0]} on {data['machine'].get('cpu_count')} cores."
@@ -360,7 +367,9 @@ def coverage() -> str:
         ]
         for row in data["rows"]
     ]
-    return table(["maze", "seed", "directed dry run: steps, coverage", "random walk: steps, coverage"], rows) + source("coverage/coverage.json")
+    return table(["maze", "seed", "directed dry run: steps, coverage", "random walk: steps, coverage"], rows) + source(
+        "coverage/coverage.json"
+    )
 
 
 TABLES: dict[str, Callable[[], str]] = {
@@ -388,7 +397,9 @@ def render(name: str) -> str:
         return TABLES[name]()
     except (OSError, KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as err:
         log.info("results table %s not made: %r", name, err)
-        return f'!!! note "Not available"\n    The table `{name}` could not be made from `benchmarks/results` ({type(err).__name__}: {err}).'
+        return (
+            f'!!! note "Not available"\n    The table `{name}` could not be made from `benchmarks/results` ({type(err).__name__}: {err}).'
+        )
 
 
 # ------------------------------------------------------------------ mkdocs events
@@ -411,5 +422,7 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
     markdown = MARKER.sub(lambda match: render(match.group(1)), markdown)
     gif = Path(config["docs_dir"]) / "img" / "animate.gif"
     depth = "../" * page.file.src_uri.count("/")
-    animation = f"![the hippocampal agent in a maze: a dry run, then runs to the hidden goal]({depth}img/animate.gif)" if gif.exists() else ""
+    animation = (
+        f"![the hippocampal agent in a maze: a dry run, then runs to the hidden goal]({depth}img/animate.gif)" if gif.exists() else ""
+    )
     return markdown.replace("<!-- animation -->", animation)

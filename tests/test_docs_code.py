@@ -23,7 +23,10 @@ SHORTER: dict[str, list[tuple[str, str]]] = {
         ("total_timesteps=200_000", "total_timesteps=256"),
         ("eval_freq=10_000", "eval_freq=128"),
         ("max_episode_steps=500", "max_episode_steps=40"),
-        ('PPO("MultiInputPolicy", train_env, seed=0, verbose=0)', 'PPO("MultiInputPolicy", train_env, seed=0, verbose=0, n_steps=128, batch_size=64, n_epochs=1)'),
+        (
+            'PPO("MultiInputPolicy", train_env, seed=0, verbose=0)',
+            'PPO("MultiInputPolicy", train_env, seed=0, verbose=0, n_steps=128, batch_size=64, n_epochs=1)',
+        ),
     ],
     "cleanrl.md": [("total_timesteps: int = 200_000", "total_timesteps: int = 512")],
 }
