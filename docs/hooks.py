@@ -303,6 +303,52 @@ def agent_scaling() -> str:
     return table(header, rows) + source("agent_scaling_paper.json", "agent_scaling_default.json")
 
 
+def agent_growth() -> str:
+    models = {"paper's model": load("agent_scaling_paper.json"), "default model": load("agent_scaling_default.json")}
+    by_cells: dict[int, dict[str, dict[str, Any]]] = {}
+    for model, data in models.items():
+        for row in data["rows"]:
+            by_cells.setdefault(row["n_place"], {})[model] = row
+    header = ["place cells"] + [f"{m}: {what}" for m in models for what in ("steps/s exploiting", "replay (ms)", "peak memory (MB)")]
+    rows = []
+    for cells, found in sorted(by_cells.items()):
+        cells_row: list[Any] = [num(cells)]
+        for m in models:
+            row = found.get(m)
+            cells_row += (
+                ["-"] * 3 if row is None else [num(row["exploiting_steps_per_second"]), num(row["replay_ms"]), num(row["peak_rss_mb"], 0)]
+            )
+        rows.append(cells_row)
+    return table(header, rows) + source("agent_scaling_paper.json", "agent_scaling_default.json")
+
+
+def env_scaling() -> str:
+    data = load("env_scaling.json")
+    rows, seen = [], set()
+    for row in data["rows"]:
+        key = (row["maze"], row["size_m"], row["n_rays"])  # the rays and size series share a point
+        if key in seen:
+            continue
+        seen.add(key)
+        split = row["split_us_per_step"]
+        total = split["total"]
+        rows.append(
+            [
+                row["maze"],
+                f"{num(row['size_m'])} m",
+                row["n_rays"],
+                num(row["steps_per_second"]),
+                pct(split["ray_cast"] / total),
+                pct(split["physics"] / total),
+                pct(split["step_overhead"] / total),
+                pct(row["wall_contact_share"]),
+            ]
+        )
+    header = ["maze", "arena", "rays", "steps/s", "ray casting", "physics", "rest of step", "steps touching a wall"]
+    verdicts = [f"{name.replace('_', ' against ')}: {g['verdict']}" for name, g in data["growth"].items()]
+    return table(header, rows) + "\n\nStep time " + "; ".join(verdicts) + "." + source("env_scaling.json")
+
+
 def env_throughput() -> str:
     data = load("env_throughput.json")
     by_maze: dict[str, dict[int, int]] = {}
@@ -372,6 +418,39 @@ def coverage() -> str:
     )
 
 
+def diagnose() -> str:
+    rows, names = [], []
+    for path in sorted((RESULTS / "diagnose").glob("*.json")):
+        d = json.loads(path.read_text())
+        names.append(f"diagnose/{path.name}")
+        rows.append(
+            [
+                d["maze"],
+                d["model"] + (" (true position given: privileged)" if d.get("oracle_privileged") else ""),
+                d["trials"],
+                num(d["runs_2_4_median"]),
+                pct(d["runs_2_4_reached"]),
+                pct(d.get("runs_misplaced_share")),
+                num(d.get("pi_error_median_m")),
+                pct(d.get("reward_map_coverage")),
+                num(d.get("dry_run_steps_median")),
+            ]
+        )
+    header = [
+        "maze",
+        "model",
+        "trials",
+        "runs 2-4 median",
+        "reached",
+        "runs misplaced",
+        "position error (m)",
+        "reward map covers",
+        "dry run",
+    ]
+    commands = sorted({f"`{json.loads((RESULTS / n).read_text())['command']}`" for n in names})
+    return table(header, rows) + f"\n\n*From `benchmarks/results/diagnose/*.json`, made by {'; '.join(commands)}.*"
+
+
 TABLES: dict[str, Callable[[], str]] = {
     "maze_suite": maze_suite,
     "maze_suite_random_walk": maze_suite_random_walk,
@@ -382,10 +461,13 @@ TABLES: dict[str, Callable[[], str]] = {
     "paper_verdicts": paper_verdicts,
     "agent_throughput": agent_throughput,
     "agent_scaling": agent_scaling,
+    "agent_growth": agent_growth,
+    "env_scaling": env_scaling,
     "env_throughput": env_throughput,
     "end_to_end": end_to_end,
     "footprint": footprint,
     "coverage": coverage,
+    "diagnose": diagnose,
 }
 
 
