@@ -61,5 +61,5 @@ def test_code_blocks_run(path, tmp_path, monkeypatch):
         plt.close("all")
         for value in list(namespace.values()):
             close = getattr(value, "close", None)
-            if callable(close) and hasattr(value, "step") and hasattr(value, "reset"):
+            if callable(close) and not isinstance(value, type) and hasattr(value, "step") and hasattr(value, "reset"):
                 close()
