@@ -198,6 +198,8 @@ def switch_from_records(data: dict[str, Any]) -> str:
             switch = (entry.get(m) or {}).get("switch")
             if not switch:
                 cells += ["", ""]
+            elif not switch.get("seeds"):
+                cells += ["n/a: never direct on the first goal", ""]
             elif switch.get("median_episodes") is None:
                 cells += [f"never ({switch.get('reached')}/{switch.get('seeds')})", f"> {num(switch.get('budget'))}"]
             else:
@@ -205,7 +207,7 @@ def switch_from_records(data: dict[str, Any]) -> str:
                     f"{num(switch['median_episodes'])} ({switch.get('reached')}/{switch.get('seeds')})",
                     num(switch.get("median_steps")),
                 ]
-        rows.append([entry["agent"], *cells])
+        rows.append([entry["agent"] + (" (privileged)" if entry.get("privileged") else ""), *cells])
     return table(header, rows)
 
 
