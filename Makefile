@@ -3,8 +3,9 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
+DOCS_STAMP := $(VENV)/.installed-docs
 
-.PHONY: demo test test-slow install lint clean
+.PHONY: demo test test-slow install lint docs clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -17,6 +18,11 @@ $(STAMP): $(PY) pyproject.toml
 	touch $(STAMP)
 
 install: $(STAMP)
+
+# The docs extra, on top of what `make test` installs.
+$(DOCS_STAMP): $(STAMP)
+	$(PY) -m pip install --quiet -e ".[docs]"
+	touch $(DOCS_STAMP)
 
 demo: $(STAMP)
 	$(VENV)/bin/hippomaze dmtp --maze open --trials 5 --runs 4 --seed 0 --agent hippo --out demo_out --overwrite
@@ -31,5 +37,8 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check hippo_env hippo_agent hippomaze baselines benchmarks tests
 	$(VENV)/bin/ruff format --check hippo_env hippo_agent hippomaze baselines benchmarks tests
 
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+
 clean:
-	rm -rf $(VENV) demo_out .pytest_cache
+	rm -rf $(VENV) demo_out .pytest_cache site

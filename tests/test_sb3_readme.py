@@ -1,39 +1,15 @@
-"""The README's "Train with Stable-Baselines3" example runs (shortened), and envs made alike share their goal."""
+"""Envs made alike share their goal: the Stable-Baselines3 pitfall that docs/sb3.md warns of.
+
+The page's example itself runs in tests/test_docs_code.py, with a shortened budget.
+"""
 
 from __future__ import annotations
-
-import re
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
-
-README = Path(__file__).resolve().parent.parent / "README.md"
-
-
-def _sb3_example() -> str:
-    text = README.read_text()
-    section = text.split("## Train with Stable-Baselines3", 1)[1]
-    return re.search(r"```python\n(.*?)```", section, re.DOTALL).group(1)
-
-
-def test_readme_sb3_example_runs(tmp_path, monkeypatch, capsys):
-    code = _sb3_example()
-    # A few hundred timesteps instead of the real budget; everything else as printed.
-    shortened = code.replace("total_timesteps=200_000", "total_timesteps=256").replace("eval_freq=10_000", "eval_freq=128")
-    shortened = shortened.replace("max_episode_steps=500", "max_episode_steps=40")
-    # One short rollout and one epoch instead of PPO's 2048-step rollouts and 10 epochs.
-    shortened = shortened.replace("seed=0, verbose=0)", "seed=0, verbose=0, n_steps=128, batch_size=64, n_epochs=1)")
-    assert (
-        shortened.count("256") == 1 and "eval_freq=128" in shortened and "max_episode_steps=40" in shortened and "n_steps=128" in shortened
-    )
-    monkeypatch.chdir(tmp_path)
-    exec(compile(shortened, "README.md", "exec"), {"__name__": "readme"})  # noqa: S102 (the README example, as printed)
-    assert "success rate, last evaluation:" in capsys.readouterr().out
-    assert (tmp_path / "sb3_eval" / "evaluations.npz").exists()
 
 
 def test_envs_made_alike_share_their_goal():

@@ -1,0 +1,512 @@
+"""mkdocs hooks: the measured figures on the site come from ``benchmarks/results`` at build time.
+
+- A page line ``<!-- results: NAME -->`` becomes the table ``NAME`` below, made from the committed
+  JSON; no measured figure is typed into a page.
+- A page may show a figure from ``benchmarks/results`` as ``results/PATH.png``; it is taken from
+  there when the site is built (no copy in ``docs/``).
+- The page ``changelog.md`` is the repository's ``CHANGELOG.md``.
+- ``<!-- animation -->`` shows ``docs/img/animate.gif`` (written by ``hippomaze animate``) if it
+  exists.
+
+Tolerant by design: a file that is missing or laid out differently gives a note on the page, not
+a failed build.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from mkdocs.structure.files import File
+
+log = logging.getLogger("mkdocs.hooks.results")
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "benchmarks" / "results"
+MARKER = re.compile(r"^<!-- results: ([a-z0-9_]+) -->$", re.MULTILINE)
+FIGURE = re.compile(r"\]\((?:\.\./)*results/([\w./-]+\.(?:png|gif|svg))\)")
+
+# Issue 21's targets for the default model (they are targets, not measurements).
+INDIRECTNESS_TARGET = {"open": 0.3, "maze1": 0.4, "maze2": 0.7, "maze3": 0.7, "maze4": 1.5}
+GENERATED_TARGET = 1.0  # runs 2-4 median indirectness in every generated maze
+REACHED_TARGET = 0.95  # of runs 2-4 reach the goal (generated mazes)
+DEFAULT_SPEED_TARGET = 8000  # steps/s of the default model at 1000 place cells
+
+
+# ------------------------------------------------------------------ formatting
+
+
+def num(value: Any, digits: int = 2) -> str:
+    """A figure as the docs print it: thousands separated, ``digits`` decimals below 100."""
+    if value is None:
+        return "-"
+    if isinstance(value, str):
+        return value
+    if isinstance(value, float) and math.isinf(value):
+        return "inf"
+    if isinstance(value, float) and (abs(value) < 100 and value != int(value)):
+        return f"{value:.{digits}f}"
+    return f"{round(value):,}"
+
+
+def pct(share: float | None) -> str:
+    return "-" if share is None else f"{100 * share:.0f} %"
+
+
+def table(header: list[str], rows: list[list[Any]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(cell) for cell in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def load(name: str) -> Any:
+    return json.loads((RESULTS / name).read_text())
+
+
+def source(*names: str) -> str:
+    """The line under a table that says where its figures come from."""
+    commands = []
+    for name in names:
+        try:
+            commands.append(f"`{load(name)['command']}`")
+        except (OSError, KeyError, ValueError):
+            pass
+    files = ", ".join(f"`benchmarks/results/{name}`" for name in names)
+    return f"\n\n*From {files}" + (f", made by {'; '.join(commands)}" if commands else "") + ".*"
+
+
+# ------------------------------------------------------------------ the maze suite
+
+
+def maze_size(name: str) -> float:
+    match = re.search(r"-(\d+)m$", name)
+    return float(match.group(1)) if match else 10.0
+
+
+def dry_run_target(name: str) -> float | None:
+    """Issue 21: open <= 1,500 steps, other built-in mazes <= 2,500, a 5 x 5 perfect maze in a 10 m
+    arena <= 5,000, a 20 m arena <= 6,000."""
+    if name == "open":
+        return 1500
+    if name in INDIRECTNESS_TARGET:
+        return 2500
+    if name.startswith("gen-perfect") and maze_size(name) == 10:
+        return 5000
+    if name.startswith("gen-arena") and maze_size(name) == 20:
+        return 6000
+    return None
+
+
+def suite_rows(name: str) -> tuple[dict[str, list[dict[str, Any]]], list[int]]:
+    by_maze: dict[str, list[dict[str, Any]]] = {}
+    for row in load(name)["rows"]:
+        by_maze.setdefault(row["maze"], []).append(row)
+    seeds = sorted({row["seed"] for rows in by_maze.values() for row in rows})
+    return by_maze, seeds
+
+
+def median_cell(row: dict[str, Any] | None) -> str:
+    if row is None:
+        return "-"
+    return f"{num(row['runs_2_4_median_miss_inf'])} ({pct(row['runs_2_4_reached'])})"
+
+
+def maze_suite() -> str:
+    by_maze, seeds = suite_rows("maze_suite_default.json")
+    header = ["maze"] + [f"seed {s}" for s in seeds] + ["target", "dry run (steps)", "dry-run target", "place cells", "verdict"]
+    rows, met = [], 0
+    for maze, found in by_maze.items():
+        per_seed = {row["seed"]: row for row in found}
+        builtin = maze in INDIRECTNESS_TARGET
+        target = INDIRECTNESS_TARGET.get(maze, GENERATED_TARGET)
+        ok = all(row["runs_2_4_median_miss_inf"] <= target and (builtin or row["runs_2_4_reached"] >= REACHED_TARGET) for row in found)
+        dry_target = dry_run_target(maze)
+        dry = [per_seed[s]["dry_run_steps_median"] for s in seeds if s in per_seed]
+        ok_dry = dry_target is None or all(d <= dry_target for d in dry)
+        cells = sorted({c for row in found for c in row.get("place_cells", [])})
+        missed = [what for what, good in (("indirectness", ok), ("dry run", ok_dry)) if not good]
+        met += not missed
+        rows.append(
+            [
+                maze,
+                *(median_cell(per_seed.get(s)) for s in seeds),
+                f"<= {target}" + ("" if builtin else ", >= 95 % reached"),
+                " / ".join(num(d) for d in dry),
+                "-" if dry_target is None else f"<= {num(dry_target)}",
+                "-".join(num(c) for c in (cells[0], cells[-1]) if cells) if len(cells) > 1 else num(cells[0] if cells else None),
+                "met" if not missed else "**missed** (" + ", ".join(missed) + ")",
+            ]
+        )
+    summary = f"\n\n**{met} of {len(rows)} mazes meet every target on every seed.**"
+    return table(header, rows) + summary + source("maze_suite_default.json")
+
+
+def maze_suite_random_walk() -> str:
+    now, seeds = suite_rows("maze_suite_default.json")
+    before, _ = suite_rows("maze_suite_random_walk.json")
+    header = ["maze"] + [f"seed {s}: random walk -> directed" for s in seeds]
+    rows = []
+    for maze, found in before.items():
+        old = {row["seed"]: row for row in found}
+        new = {row["seed"]: row for row in now.get(maze, [])}
+        rows.append([maze, *(f"{median_cell(old.get(s))} -> {median_cell(new.get(s))}" for s in seeds)])
+    return table(header, rows) + source("maze_suite_random_walk.json", "maze_suite_default.json")
+
+
+# ------------------------------------------------------------------ sample efficiency
+
+
+def steps_cell(entry: dict[str, Any]) -> str:
+    reached = f"({entry.get('reached')}/{entry.get('seeds')})"
+    if entry.get("median_steps") is None:
+        return f"> {num(entry.get('budget'))} {reached}"
+    return f"{num(entry['median_steps'])} {reached}"
+
+
+def sample_efficiency_table(key: str, build: Callable[[dict[str, Any]], str]) -> str:
+    data = load("sample_efficiency.json")
+    text = data.get(key) if isinstance(data.get(key), str) else build(data)
+    return text + source("sample_efficiency.json")
+
+
+def headline_from_records(data: dict[str, Any]) -> str:
+    mazes = data["mazes"]
+    header = ["agent"] + [f"{m}: {what}" for m in mazes for what in ("steps to direct", "x hippo")]
+    rows = []
+    for entry in data["headline"]:
+        name = entry["agent"] + (" (privileged)" if entry.get("privileged") else "")
+        cells = []
+        for m in mazes:
+            e = entry.get(m)
+            cells += ["", ""] if not e else [steps_cell(e), num(e.get("ratio_to_hippo") or 1)]
+        rows.append([name, *cells])
+    return table(header, rows)
+
+
+def switch_from_records(data: dict[str, Any]) -> str:
+    mazes = data["mazes"]
+    header = ["agent"] + [f"{m}: {what}" for m in mazes for what in ("runs", "steps")]
+    rows = []
+    for entry in data["headline"]:
+        cells = []
+        for m in mazes:
+            switch = (entry.get(m) or {}).get("switch")
+            if not switch:
+                cells += ["", ""]
+            elif not switch.get("seeds"):
+                cells += ["n/a: never direct on the first goal", ""]
+            elif switch.get("median_episodes") is None:
+                cells += [f"never ({switch.get('reached')}/{switch.get('seeds')})", f"> {num(switch.get('budget'))}"]
+            else:
+                cells += [
+                    f"{num(switch['median_episodes'])} ({switch.get('reached')}/{switch.get('seeds')})",
+                    num(switch.get("median_steps")),
+                ]
+        rows.append([entry["agent"] + (" (privileged)" if entry.get("privileged") else ""), *cells])
+    return table(header, rows)
+
+
+def sample_efficiency() -> str:
+    return sample_efficiency_table("headline_markdown", headline_from_records)
+
+
+def goal_switch() -> str:
+    return sample_efficiency_table("switch_markdown", switch_from_records)
+
+
+# ------------------------------------------------------------------ the paper's claims
+
+
+def paper_claims() -> str:
+    models = {"the paper's model": load("paper/paper.json"), "the default model": load("paper_default/paper.json")}
+    verdicts = {label: {c["id"]: c for c in data["claims"]} for label, data in models.items()}
+    first = next(iter(models.values()))["claims"]
+    header = ["#", "the paper says"] + [f"{label}: verdict" for label in models]
+    rows = [[c["id"], c["paper"], *(f"**{verdicts[label][c['id']]['verdict']}**" for label in models)] for c in first]
+    return table(header, rows) + source("paper/paper.json", "paper_default/paper.json")
+
+
+def paper_details() -> str:
+    paper, default = load("paper/paper.json")["claims"], {c["id"]: c for c in load("paper_default/paper.json")["claims"]}
+    rows = [[c["id"], c.get("criterion", ""), c["measured"], default[c["id"]]["measured"]] for c in paper]
+    return table(["#", "verdict criterion", "the paper's model measured", "the default model measured"], rows) + source(
+        "paper/paper.json", "paper_default/paper.json"
+    )
+
+
+def paper_verdicts() -> str:
+    rows = []
+    for label, name in (
+        ("the paper's model (`AgentConfig.paper()`)", "paper/paper.json"),
+        ("the default model (`AgentConfig()`)", "paper_default/paper.json"),
+    ):
+        claims = load(name)["claims"]
+        targets = [c for c in claims if c["id"].startswith("T")]  # the project's own targets, not the paper's claims
+        counts = {v: sum(c["verdict"] == v for c in claims if c not in targets) for v in ("reproduced", "partly", "not reproduced")}
+        met = sum(c["verdict"] == "met" for c in targets)
+        rows.append([label, *(counts[v] for v in counts), f"{met} of {len(targets)}"])
+    return table(["model", "reproduced", "partly", "not reproduced", "project targets met"], rows) + source(
+        "paper/paper.json", "paper_default/paper.json"
+    )
+
+
+# ------------------------------------------------------------------ speed and memory
+
+
+def agent_throughput() -> str:
+    rows = []
+    for model, name in (("paper's model", "agent_throughput.json"), ("default model", "agent_throughput_default.json")):
+        data = load(name)
+        targets = data["targets_1000_cells"]
+        speed, ratio = targets["steps_per_second"], targets["x_ratinabox"]
+        rows.append(
+            [
+                model,
+                f"{num(speed['measured'])} (target {num(speed['target'])}: {'met' if speed['met'] else '**missed**'})",
+                f"{num(ratio['measured'])}x (target {num(ratio['target'])}x: {'met' if ratio['met'] else '**missed**'})",
+            ]
+        )
+    default = load("agent_throughput_default.json")["targets_1000_cells"]["steps_per_second"]["measured"]
+    note = f"\n\nIssue 21 asked the default model for {num(DEFAULT_SPEED_TARGET)} steps/s: " + (
+        "met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)})."
+    )
+    return (
+        table(["agent, 1000 place cells, 720 rays, learning on", "steps/s exploiting", "x RatInABox"], rows)
+        + note
+        + source("agent_throughput.json", "agent_throughput_default.json")
+    )
+
+
+def agent_scaling() -> str:
+    rows = []
+    for model, name in (("paper's model", "agent_scaling_paper.json"), ("default model", "agent_scaling_default.json")):
+        data = load(name)
+        t = data["targets"]
+
+        def verdict(entry: dict[str, Any], measured: str, unit: str) -> str:
+            return f"{num(entry[measured])} {unit} (target {num(entry['target'])}: {'met' if entry['met'] else '**missed**'})"
+
+        growth = data["growth"]["exploiting"]["verdict"]
+        rows.append(
+            [
+                model,
+                verdict(t["steps_per_second"], "slowest_walk", "steps/s"),
+                verdict(t["peak_rss_mb"], "measured", "MB"),
+                verdict(t["replay_ms"], "measured", "ms"),
+                growth,
+            ]
+        )
+    header = ["agent at 10,000 place cells", "steps/s (slowest walk)", "peak memory", "one replay", "step time against cells"]
+    return table(header, rows) + source("agent_scaling_paper.json", "agent_scaling_default.json")
+
+
+def agent_growth() -> str:
+    models = {"paper's model": load("agent_scaling_paper.json"), "default model": load("agent_scaling_default.json")}
+    by_cells: dict[int, dict[str, dict[str, Any]]] = {}
+    for model, data in models.items():
+        for row in data["rows"]:
+            by_cells.setdefault(row["n_place"], {})[model] = row
+    header = ["place cells"] + [f"{m}: {what}" for m in models for what in ("steps/s exploiting", "replay (ms)", "peak memory (MB)")]
+    rows = []
+    for cells, found in sorted(by_cells.items()):
+        cells_row: list[Any] = [num(cells)]
+        for m in models:
+            row = found.get(m)
+            cells_row += (
+                ["-"] * 3 if row is None else [num(row["exploiting_steps_per_second"]), num(row["replay_ms"]), num(row["peak_rss_mb"], 0)]
+            )
+        rows.append(cells_row)
+    return table(header, rows) + source("agent_scaling_paper.json", "agent_scaling_default.json")
+
+
+def env_scaling() -> str:
+    data = load("env_scaling.json")
+    rows, seen = [], set()
+    for row in data["rows"]:
+        key = (row["maze"], row["size_m"], row["n_rays"])  # the rays and size series share a point
+        if key in seen:
+            continue
+        seen.add(key)
+        split = row["split_us_per_step"]
+        total = split["total"]
+        rows.append(
+            [
+                row["maze"],
+                f"{num(row['size_m'])} m",
+                row["n_rays"],
+                num(row["steps_per_second"]),
+                pct(split["ray_cast"] / total),
+                pct(split["physics"] / total),
+                pct(split["step_overhead"] / total),
+                pct(row["wall_contact_share"]),
+            ]
+        )
+    header = ["maze", "arena", "rays", "steps/s", "ray casting", "physics", "rest of step", "steps touching a wall"]
+    verdicts = [f"{name.replace('_', ' against ')}: {g['verdict']}" for name, g in data["growth"].items()]
+    return table(header, rows) + "\n\nStep time " + "; ".join(verdicts) + "." + source("env_scaling.json")
+
+
+def env_throughput() -> str:
+    data = load("env_throughput.json")
+    by_maze: dict[str, dict[int, int]] = {}
+    for row in data["single_env"]:
+        by_maze.setdefault(row["maze"], {})[row["n_rays"]] = row["steps_per_second"]
+    rays = sorted({r for v in by_maze.values() for r in v})
+    rows = [[maze, *(num(v.get(r)) for r in rays)] for maze, v in by_maze.items()]
+    text = table(["maze"] + [f"{r} rays (steps/s)" for r in rays], rows)
+    peer = data.get("peer") or {}
+    if peer.get("timed"):
+        text += (
+            f"\n\nAt 720 rays the slowest maze runs at {peer['min_x_peer_720_rays']}x Gymnasium-Robotics' `{peer['name']}` timed beside it."
+        )
+    load_note = data.get("machine", {}).get("load_average_at_start")
+    if load_note:
+        text += f" Load average at the start: {load_note[0]} on {data['machine'].get('cpu_count')} cores."
+    return text + source("env_throughput.json")
+
+
+def end_to_end() -> str:
+    data = load("end_to_end.json")
+    summary = {(s["command"], s["checkout"]): s for s in data["summary"]}
+    now, before = data["args"]["repos"][0], data["args"]["repos"][1]
+    rows = []
+    for command in data["args"]["which"]:
+        a, b = summary[(command, now)], summary[(command, before)]
+        rows.append(
+            [
+                f"`hippomaze {command}`",
+                f"{num(b['median_wall_seconds'], 1)} s -> {num(a['median_wall_seconds'], 1)} s ({b['median_wall_seconds'] / a['median_wall_seconds']:.2f}x)",
+                f"{num(b['median_cpu_seconds'], 1)} s -> {num(a['median_cpu_seconds'], 1)} s ({b['median_cpu_seconds'] / a['median_cpu_seconds']:.2f}x)",
+            ]
+        )
+    return table(["command", f"wall, {before} -> now", "CPU"], rows) + source("end_to_end.json")
+
+
+def footprint() -> str:
+    data = load("footprint.json")
+    rows = [
+        [maze, num(s["make_seconds"], 2), num(s["make_and_reset_seconds"], 2), num(s["peak_above_import_mb"], 0)]
+        for maze, s in data["set_up"].items()
+    ]
+    text = table(["maze", "gym.make (s)", "make + first reset (s)", "peak above the imports (MB)"], rows)
+    long_run = data.get("long_run")
+    if long_run:
+        resident = [s["resident_mb"] for s in long_run["samples"]]
+        text += (
+            f"\n\nA goal-free run of {num(long_run['steps'])} steps in {long_run['maze']}: resident memory"
+            f" {num(resident[0], 0)} MB at the start, at most {num(max(resident), 0)} MB."
+        )
+    return text + source("footprint.json")
+
+
+def coverage() -> str:
+    data = load("coverage/coverage.json")
+    rows = [
+        [
+            row["maze"],
+            row["seed"],
+            f"{num(row['directed']['steps'])}: {pct(row['directed']['final'])}, 80 % at {num(row['directed']['steps_to_80'])}",
+            f"{num(row['random']['steps'])}: {pct(row['random']['final'])}, 80 % at {num(row['random']['steps_to_80'])}",
+        ]
+        for row in data["rows"]
+    ]
+    return table(["maze", "seed", "directed dry run: steps, coverage", "random walk: steps, coverage"], rows) + source(
+        "coverage/coverage.json"
+    )
+
+
+def diagnose() -> str:
+    rows, names = [], []
+    for path in sorted((RESULTS / "diagnose").glob("*.json")):
+        d = json.loads(path.read_text())
+        names.append(f"diagnose/{path.name}")
+        rows.append(
+            [
+                d["maze"],
+                d["model"] + (" (true position given: privileged)" if d.get("oracle_privileged") else ""),
+                d["trials"],
+                num(d["runs_2_4_median"]),
+                pct(d["runs_2_4_reached"]),
+                pct(d.get("runs_misplaced_share")),
+                num(d.get("pi_error_median_m")),
+                pct(d.get("reward_map_coverage")),
+                num(d.get("dry_run_steps_median")),
+            ]
+        )
+    header = [
+        "maze",
+        "model",
+        "trials",
+        "runs 2-4 median",
+        "reached",
+        "runs misplaced",
+        "position error (m)",
+        "reward map covers",
+        "dry run",
+    ]
+    commands = sorted({f"`{json.loads((RESULTS / n).read_text())['command']}`" for n in names})
+    return table(header, rows) + f"\n\n*From `benchmarks/results/diagnose/*.json`, made by {'; '.join(commands)}.*"
+
+
+TABLES: dict[str, Callable[[], str]] = {
+    "maze_suite": maze_suite,
+    "maze_suite_random_walk": maze_suite_random_walk,
+    "sample_efficiency": sample_efficiency,
+    "goal_switch": goal_switch,
+    "paper_claims": paper_claims,
+    "paper_details": paper_details,
+    "paper_verdicts": paper_verdicts,
+    "agent_throughput": agent_throughput,
+    "agent_scaling": agent_scaling,
+    "agent_growth": agent_growth,
+    "env_scaling": env_scaling,
+    "env_throughput": env_throughput,
+    "end_to_end": end_to_end,
+    "footprint": footprint,
+    "coverage": coverage,
+    "diagnose": diagnose,
+}
+
+
+def render(name: str) -> str:
+    """The table ``name``, or a note saying why it cannot be shown."""
+    if name not in TABLES:
+        raise ValueError(f"docs: unknown results table {name!r}; known: {', '.join(TABLES)}")
+    try:
+        return TABLES[name]()
+    except (OSError, KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as err:
+        log.info("results table %s not made: %r", name, err)
+        return (
+            f'!!! note "Not available"\n    The table `{name}` could not be made from `benchmarks/results` ({type(err).__name__}: {err}).'
+        )
+
+
+# ------------------------------------------------------------------ mkdocs events
+
+
+def on_files(files: Any, config: Any) -> Any:
+    """Add the figures that pages take from ``benchmarks/results`` to the site, as ``results/...``."""
+    wanted: set[str] = set()
+    for page in Path(config["docs_dir"]).rglob("*.md"):
+        wanted.update(FIGURE.findall(page.read_text()))
+    for relative in sorted(wanted):
+        path = RESULTS / relative
+        if path.is_file() and files.get_file_from_path(f"results/{relative}") is None:
+            files.append(File.generated(config, f"results/{relative}", abs_src_path=str(path)))
+    files.append(File.generated(config, "changelog.md", content=(ROOT / "CHANGELOG.md").read_text()))
+    return files
+
+
+def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
+    markdown = MARKER.sub(lambda match: render(match.group(1)), markdown)
+    gif = Path(config["docs_dir"]) / "img" / "animate.gif"
+    depth = "../" * page.file.src_uri.count("/")
+    animation = (
+        f"![the hippocampal agent in a maze: a dry run, then runs to the hidden goal]({depth}img/animate.gif)" if gif.exists() else ""
+    )
+    return markdown.replace("<!-- animation -->", animation)
