@@ -233,13 +233,6 @@ class HippocampalAgent:
             self.phase = "trial"
             self.started = False
 
-    def prepare(self, env: Any) -> None:
-        """Deprecated: the former name of :meth:`dry_run`."""
-        import warnings
-
-        warnings.warn("HippocampalAgent.prepare is deprecated: call dry_run", DeprecationWarning, stacklevel=2)
-        self.dry_run(env)
-
     def start_trial(self, trial: int) -> None:
         """A new DMTP trial: the goal has moved, so a new reward cell takes over."""
         self.trial = int(trial)

@@ -17,7 +17,6 @@ import json
 import math
 import platform
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -26,7 +25,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from hippo_env.agent_protocol import AgentBase, AgentFactory, missing_methods
+from hippo_env.agent_protocol import AgentFactory, missing_methods
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
@@ -112,12 +111,6 @@ class DMTPResult:
             record["error"] = self.error
         record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the key committed records have
         return record
-
-    @property
-    def episodes(self) -> list[Run]:
-        """Deprecated: the former name of :attr:`run_records`."""
-        warnings.warn("DMTPResult.episodes is deprecated: use run_records", DeprecationWarning, stacklevel=2)
-        return self.run_records
 
     def save(self, out_dir: str | Path) -> Path:
         """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``, each atomically."""
@@ -463,16 +456,8 @@ def _check_make_kwargs(make_kwargs: dict[str, Any]) -> None:
 
 
 def dry_run_method(agent: Any) -> Callable[[gym.Env], None] | None:
-    """The agent's dry run (its ``dry_run`` method), or None if it has none.
-
-    ``prepare`` is the dry run's former name: an agent that defines ``prepare`` but no ``dry_run``
-    of its own (``AgentBase``'s no-op does not count) gets its dry run there, with a ``DeprecationWarning``.
-    """
+    """The agent's dry run (its ``dry_run`` method), or None if it has none."""
     dry_run = getattr(agent, "dry_run", None)
-    prepare = getattr(agent, "prepare", None)
-    if callable(prepare) and (not callable(dry_run) or getattr(dry_run, "__func__", None) is AgentBase.dry_run):
-        warnings.warn(f"{type(agent).__name__}.prepare is the dry run's former name: rename it dry_run", DeprecationWarning, stacklevel=2)
-        return prepare
     return dry_run if callable(dry_run) else None
 
 
@@ -490,13 +475,6 @@ def _progress(total: int, description: str, enabled: bool):
     from tqdm.auto import tqdm
 
     return tqdm(total=total, desc=description, unit="run")
-
-
-def __getattr__(name: str) -> Any:
-    if name == "Episode":  # the former name of Run
-        warnings.warn("hippo_env.dmtp.Episode is deprecated: use Run", DeprecationWarning, stacklevel=2)
-        return Run
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["DMTPFailed", "DMTPInterrupted", "DMTPResult", "RolloutEnd", "Run", "agent_config", "dry_run_method", "rollout", "run_dmtp"]

@@ -224,10 +224,6 @@ def load_agent(spec: str) -> Any:
     return _checked(spec, build)
 
 
-#: The former name of :func:`load_agent`, from when only classes could be named.
-load_agent_class = load_agent
-
-
 def _load_registered(name: str, entry_point: Any) -> Any:
     """The class or factory an installed package registered as ``name`` in the ``hippomaze.agents`` group."""
     try:
@@ -254,4 +250,4 @@ def _checked(spec: str, build: Any) -> Any:
     )
 
 
-__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent", "load_agent_class"]
+__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent"]
