@@ -15,7 +15,7 @@ from hippo_env.files import atomic_write, write_json
 from hippo_env.maze import BUILTIN_MAZES, MazeSpec
 
 __all__ = ["BUILTIN_MAZES", "HippoMazeEnv", "MazeSpec", "atomic_write", "write_json"]
-__version__ = "0.1.0"
+__version__ = "0.1.0"  # the distribution's one version (pyproject.toml reads it)
 
 if "HippoMaze-v0" not in registry:
     register(
