@@ -11,7 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from hippo_env import physics
-from hippo_env.geometry import DistanceField
+from hippo_env.geodesic import DistanceField
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder

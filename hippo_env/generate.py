@@ -70,6 +70,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hippo_env.geometry import counter_clockwise, polygon_distance
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
 
@@ -255,7 +256,7 @@ def _spaced(count: int, draw: Callable[[], Polygon | None]) -> list[Polygon] | N
     for _ in range(count):
         for _ in range(_PLACE_TRIES):
             polygon = draw()
-            if polygon is not None and all(_polygon_distance(polygon, other) >= WALL_GAP for other in placed):
+            if polygon is not None and all(polygon_distance(polygon, other) >= WALL_GAP for other in placed):
                 placed.append(polygon)
                 break
         else:
@@ -300,7 +301,7 @@ def _draw_wall(rng: np.random.Generator, half: float, scale: float) -> Polygon |
         others = [0, 1, 2, 3]
     if min(_side_distance(polygon, half, s) for s in others) < WALL_GAP:
         return None
-    return _counter_clockwise(polygon)
+    return counter_clockwise(polygon)
 
 
 def _side_distance(polygon: Polygon, half: float, side: int) -> float:
@@ -325,7 +326,7 @@ def _draw_block(rng: np.random.Generator, half: float) -> Polygon | None:
     polygon = _rounded([centre + su * width / 2 * u + sn * height / 2 * n for su, sn in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
     if min(_side_distance(polygon, half, s) for s in range(4)) < WALL_GAP:
         return None
-    return _counter_clockwise(polygon)
+    return counter_clockwise(polygon)
 
 
 # ---------------------------------------------------------------------- the grid kinds
@@ -469,59 +470,9 @@ def _rectangle(x0: float, y0: float, x1: float, y1: float) -> Polygon:
     return _rounded([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])  # counter-clockwise
 
 
-# ---------------------------------------------------------------------- geometry helpers
+# ---------------------------------------------------------------------- vertices
 def _rounded(points: Sequence[Sequence[float]]) -> Polygon:
     return tuple((round(float(x), _DECIMALS) + 0.0, round(float(y), _DECIMALS) + 0.0) for x, y in points)
-
-
-def _signed_area(polygon: Polygon) -> float:
-    return 0.5 * sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(polygon, polygon[1:] + polygon[:1]))
-
-
-def _counter_clockwise(polygon: Polygon) -> Polygon:
-    return polygon if _signed_area(polygon) > 0 else polygon[::-1]
-
-
-def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    ab = b - a
-    t = float(np.clip((p - a).dot(ab) / max(ab.dot(ab), 1e-18), 0.0, 1.0))
-    return float(np.linalg.norm(p - (a + t * ab)))
-
-
-def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
-    def cross(o, p, q):
-        return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-
-    return cross(a, b, c) * cross(a, b, d) < 0 and cross(c, d, a) * cross(c, d, b) < 0
-
-
-def _polygon_distance(p: Polygon, q: Polygon) -> float:
-    """Distance between two simple polygons (0 when they touch, cross or one holds the other)."""
-    pa, qa = np.asarray(p, float), np.asarray(q, float)
-    if _inside(pa[0], qa) or _inside(qa[0], pa):
-        return 0.0
-    best = math.inf
-    for a, b in zip(pa, np.roll(pa, -1, axis=0)):
-        for c, d in zip(qa, np.roll(qa, -1, axis=0)):
-            if _segments_cross(a, b, c, d):
-                return 0.0
-            best = min(
-                best,
-                _point_segment_distance(a, c, d),
-                _point_segment_distance(b, c, d),
-                _point_segment_distance(c, a, b),
-                _point_segment_distance(d, a, b),
-            )
-    return best
-
-
-def _inside(point: np.ndarray, polygon: np.ndarray) -> bool:
-    x, y = point
-    inside = False
-    for (x0, y0), (x1, y1) in zip(polygon, np.roll(polygon, -1, axis=0)):
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
 
 
 def maze_json(spec: MazeSpec) -> str:
