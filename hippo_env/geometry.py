@@ -99,6 +99,25 @@ def points_in_polygon(points: np.ndarray, polygon: Polygon | np.ndarray) -> np.n
     return inside
 
 
+def convex_hull_area(points: np.ndarray) -> float:
+    """Area of the convex hull of ``points`` (``(k, 2)``; Andrew's monotone chain), 0 for fewer than 3 distinct points."""
+    pts = np.unique(np.round(points, 9), axis=0)
+    if len(pts) < 3:
+        return 0.0
+    pts = pts[np.lexsort((pts[:, 1], pts[:, 0]))]
+
+    def half(seq: np.ndarray) -> list[np.ndarray]:
+        out: list[np.ndarray] = []
+        for p in seq:
+            while len(out) >= 2 and _cross(out[-2], out[-1], p) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    hull = np.array(half(pts)[:-1] + half(pts[::-1])[:-1])
+    return abs(signed_area(hull))
+
+
 def point_in_polygon(x: float, y: float, polygon: Polygon | np.ndarray) -> bool:
     """Whether the point ``(x, y)`` lies inside ``polygon`` (:func:`points_in_polygon` for one point)."""
     return bool(points_in_polygon(np.array([[x, y]]), polygon)[0])
