@@ -55,13 +55,6 @@ from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
 
-PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
-BUMP_DISTANCE = 0.3  # m ahead of the robot's centre: where a bump marks a wall in the exploration map
-RECRUIT_EVERY = 50  # steps between checks of whether the place cells run short (dry run)
-RECRUIT_MIN = 250  # place cells recruited at least at a time
-PLAN_PATIENCE = 3  # steps in a row with nowhere unvisited to go before the sweep counts as done
-FIT_RATE = 0.1  # per step: the running mean of the scan's fit to the map spans about 10 steps
-
 
 def _describe_space(space: Any) -> str:
     return str(space)
@@ -119,11 +112,7 @@ class HippocampalAgent:
         self.place = PlaceCells(c.n_place, self.bvc.n, c.n_hd, self.rng, **c.place_kwargs())
         self.reward = RewardCells(c.n_place)
         self.pi = PathIntegrator(c.pi_particles, self.rng, **c.path_integrator_kwargs())
-        self.map = (
-            ExplorationMap(c.map_extent, c.map_cell, c.visit_radius, c.search_radius, c.explore_lookahead)
-            if c.exploration == "directed"
-            else None
-        )
+        self.map = ExplorationMap(**c.map_kwargs()) if c.exploration == "directed" else None
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -251,7 +240,7 @@ class HippocampalAgent:
             self.fit = 1.0
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
-            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
+            self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood)
             if self.pi.anchored:
                 self.place.settle(b, self._pi_input(), self.config.settle_steps)
         else:
@@ -326,12 +315,12 @@ class HippocampalAgent:
         if self.map is not None and self.pi.anchored:
             self.map.observe(self.pi.estimate, heading, ranges, self.max_range)
             if dry:
-                if self.total_steps % RECRUIT_EVERY == 0:
+                if self.total_steps % c.recruit_every == 0:
                     self._recruit()
                 active = np.flatnonzero(self.place.v > 0.0)
                 self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, self.place.v[active])
             if collision:
-                self.map.mark_bump(self.pi.estimate, heading, BUMP_DISTANCE)
+                self.map.mark_bump(self.pi.estimate, heading, c.map_bump_distance)
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
             self.intended_heading = float(self.rng.uniform(-math.pi, math.pi))
@@ -365,7 +354,7 @@ class HippocampalAgent:
         """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
         run, with the exploration map, :meth:`_map_likelihood`); the path-integration drive if
         anchored, else ``None`` (the boundary code alone drives the place cells)."""
-        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood)
+        self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood)
         self._check_localisation()
         return self._pi_input() if self.pi.anchored else None
 
@@ -386,7 +375,8 @@ class HippocampalAgent:
             return
         ranges, heading = self._scan
         here = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0]
-        self.fit = (1.0 - FIT_RATE) * self.fit + FIT_RATE * here
+        rate = self.config.map_fit_rate
+        self.fit = (1.0 - rate) * self.fit + rate * here
         if self.fit < self.config.lost_agreement:
             self.pi.lose()
             self.fit = 1.0
@@ -439,7 +429,7 @@ class HippocampalAgent:
         """Where the map says to go next, or ``None`` for a random step.
 
         Dry run: the sweep heads for the nearest ground not yet visited; once none is reachable
-        (for ``PLAN_PATIENCE`` steps in a row) transits to random visited places follow, for
+        (for ``sweep_patience`` steps in a row) transits to random visited places follow, for
         ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
         ground not searched in this run.
         """
@@ -453,7 +443,7 @@ class HippocampalAgent:
                 self.plan_failures = 0
                 return heading
             self.plan_failures += 1
-            if self.plan_failures < PLAN_PATIENCE:
+            if self.plan_failures < self.config.sweep_patience:
                 return None
             self.dry_stage = "transit"
             self.transit_left = math.ceil(self.config.transit_factor * self.sweep_steps)
@@ -478,11 +468,11 @@ class HippocampalAgent:
 
     def _recruit(self) -> None:
         """Recruit place cells up to ``place_cells_per_m2`` of the free ground the map knows
-        (at least ``RECRUIT_MIN`` at a time, at most ``max_place_cells`` in all)."""
+        (at least ``recruit_min`` at a time, at most ``max_place_cells`` in all)."""
         c = self.config
         wanted = min(math.ceil(c.place_cells_per_m2 * self.map.explored_area()), c.max_place_cells)
         if wanted > self.place.n:
-            self.grow_place_cells(min(max(wanted - self.place.n, RECRUIT_MIN), c.max_place_cells - self.place.n))
+            self.grow_place_cells(min(max(wanted - self.place.n, c.recruit_min), c.max_place_cells - self.place.n))
 
     def grow_place_cells(self, extra: int) -> None:
         """Add ``extra`` place cells (:meth:`PlaceCells.grow`) and their reward weights."""

@@ -223,6 +223,31 @@ class AgentConfig:
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
     transit_min_distance: float = 3.0
     """A transit's destination lies at least this far (m, along the path) from where it starts."""
+    sweep_patience: int = 3
+    """The directed dry run's sweep counts as done after this many steps in a row with no
+    unvisited ground reachable (a single step may find none while the map is being filled in)."""
+    recruit_every: int = 50
+    """Directed dry run: steps between checks of whether the place cells fall short of
+    ``place_cells_per_m2``."""
+    recruit_min: int = 250
+    """Place cells recruited at least at a time, so that recruitment happens in a few large steps."""
+    map_free_range: float = 4.0
+    """A ray marks the exploration map's cells free up to this distance (m): farther cells are seen
+    at too coarse an angle to be marked reliably."""
+    map_hit_range: float = 6.0
+    """A ray that ends nearer than this (m) marks a wall in the exploration map, and enters the
+    scan's fit to the map."""
+    map_ray_stride_deg: float = 5.0
+    """One ray of the scan every this many degrees enters the exploration map."""
+    map_agreement_stride_deg: float = 10.0
+    """One ray of the scan every this many degrees is compared with the map (``map_beta``,
+    ``lost_agreement``)."""
+    map_bump_distance: float = 0.3
+    """A bump marks a wall in the exploration map this far (m) ahead of the robot's centre: the
+    robot's radius (0.17 m) and a little more, in the cell it bumped into."""
+    map_fit_rate: float = 0.1
+    """Rate per step of the running mean of the scan's fit to the map that ``lost_agreement`` is
+    compared with: it spans about 10 steps."""
 
     # ---------------------------------------------------------------- schedule
     dry_run_steps: int = 10000
@@ -273,6 +298,19 @@ class AgentConfig:
     the path-integration input and all plasticity are off."""
     pi_redraw_fraction: float = 0.2
     """While not anchored, this share of the samples is drawn afresh around the voted centres each step."""
+    pi_min_mass: float = 1.0
+    """A cell's centre enters the sensory vote once the cell has fired there with a summed rate of
+    at least this: a centre learnt from a single weak firing is not yet a place."""
+    pi_vote_floor: float = 1e-3
+    """Likelihood of a sample far from every voted centre, so that no sample's weight becomes
+    exactly 0 and the belief can recover from a wrong vote."""
+    pi_min_mapped: float = 0.8
+    """Once anchored, a vote is ignored where the cells with a centre hold less than this share of
+    the boundary code's activity: at the edge of the map only the cells behind the robot have
+    centres, and their vote would pull the estimate back."""
+    pi_resample_ess: float = 0.5
+    """The samples are resampled when their effective number falls below this share of
+    ``pi_particles`` (the usual particle-filter threshold)."""
     pi_vote_by_spread: bool = True
     """Each cell learns how far from its centre the boundary code alone fires it (its spread), and
     votes for positions with a normalised Gaussian that wide: cells that also fire at distant
@@ -368,6 +406,13 @@ class AgentConfig:
         if not -1 <= self.lost_agreement <= 1:
             raise bad("lost_agreement", "a value in [-1, 1]")
         non_negative("place_cells_per_m2")
+        for n in ("sweep_patience", "recruit_every", "recruit_min"):
+            if getattr(self, n) < 1:
+                raise bad(n, "an integer >= 1")
+        positive("map_free_range", "map_hit_range", "map_ray_stride_deg", "map_agreement_stride_deg", "map_bump_distance")
+        unit_interval("map_fit_rate", "pi_vote_floor")
+        non_negative("pi_min_mass")
+        unit_interval("pi_min_mapped", "pi_resample_ess", open_low=False)
 
         if self.discrete_rounding not in ("stochastic", "nearest"):
             raise bad("discrete_rounding", "'stochastic' or 'nearest'")
@@ -418,8 +463,25 @@ class AgentConfig:
             "anchor_radius": self.pi_anchor_radius,
             "anchor_weight": self.pi_anchor_weight,
             "redraw_fraction": self.pi_redraw_fraction,
-            "lag": (1.0 - self.k) / self.k,
-            "min_anchor_steps": self.pi_min_anchor_steps,  # eq. 3's Euler update lags the input by this many steps
+            "lag": (1.0 - self.k) / self.k,  # eq. 3's Euler update lags the input by this many steps
+            "min_anchor_steps": self.pi_min_anchor_steps,
+            "vote_floor": self.pi_vote_floor,
+            "min_mapped": self.pi_min_mapped,
+            "resample_ess": self.pi_resample_ess,
+        }
+
+    def map_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.explore.ExplorationMap`."""
+        return {
+            "extent": self.map_extent,
+            "cell": self.map_cell,
+            "visit_radius": self.visit_radius,
+            "search_radius": self.search_radius,
+            "lookahead": self.explore_lookahead,
+            "free_range": self.map_free_range,
+            "hit_range": self.map_hit_range,
+            "ray_stride_deg": self.map_ray_stride_deg,
+            "agreement_stride_deg": self.map_agreement_stride_deg,
         }
 
     def replace(self, **changes: Any) -> AgentConfig:

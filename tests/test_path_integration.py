@@ -72,6 +72,10 @@ def integrator(**kw):
         "anchor_weight": 0.8,
         "redraw_fraction": 0.2,
         "lag": 0.0,
+        "min_anchor_steps": 0,
+        "vote_floor": 1e-3,
+        "min_mapped": 0.8,
+        "resample_ess": 0.5,
         **kw,
     }
     return PathIntegrator(100, np.random.default_rng(0), **args)

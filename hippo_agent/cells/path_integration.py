@@ -35,6 +35,9 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
     min_anchor_steps: a lost estimate is not anchored before this many corrections, so that
         evidence that accumulates (a map's fit, :meth:`correct`'s ``likelihood``) can single out
         one of several look-alike places.
+    vote_floor: the likelihood of a sample far from every voted centre (never exactly 0).
+    min_mapped: once anchored, a vote from a place mapped less than this is ignored (:meth:`correct`).
+    resample_ess: resample when the effective number of samples falls below this share of them.
     lag: the place rates lag the input by this many steps (``(1 - k) / k`` for eq. 3's Euler update),
         so the vote is compared with where each sample was that many steps ago (``lag`` times the
         last step back), and cells learn their centres there too (:meth:`lagged_estimate`).
@@ -52,9 +55,6 @@ from hippo_agent.cells import _kernels
 
 __all__ = ["PathIntegrator"]
 
-VOTE_FLOOR = 1e-3  # likelihood of a sample far from every voted centre (never exactly 0)
-MIN_MAPPED = 0.8  # see PathIntegrator.correct
-
 
 class PathIntegrator:
     """A self-localising path integrator (see the module docstring)."""
@@ -71,7 +71,10 @@ class PathIntegrator:
         anchor_weight: float,
         redraw_fraction: float,
         lag: float,
-        min_anchor_steps: int = 0,
+        min_anchor_steps: int,
+        vote_floor: float,
+        min_mapped: float,
+        resample_ess: float,
     ) -> None:
         self.n_particles = int(n_particles)
         self.rng = rng
@@ -91,7 +94,9 @@ class PathIntegrator:
         self.lag = float(lag)
         self.min_anchor_steps = int(min_anchor_steps)
         self.lost_steps = 0  # corrections since the estimate was last lost
-        self.min_mapped = MIN_MAPPED
+        self.min_mapped = float(min_mapped)
+        self.vote_floor = float(vote_floor)
+        self.resample_ess = float(resample_ess)
         self.last_step = np.zeros(2)
         self._noise = np.zeros((self.n_particles, 2))  # scratch: one step's motion noise
 
@@ -155,8 +160,8 @@ class PathIntegrator:
             gauss = np.empty((self.n_particles, rates.size))
             _kernels.vote_exponents(self.particles, self.lag, self.last_step, centres, spreads, vote_var, gauss)
             np.exp(gauss, out=gauss)  # (NumPy's vectorised exp: 4x faster than one call per value)
-            ess = _kernels.reweigh(gauss, rates, spreads, vote_var, VOTE_FLOOR, self.weights)
-            if ess < 0.5 * self.n_particles:
+            ess = _kernels.reweigh(gauss, rates, spreads, vote_var, self.vote_floor, self.weights)
+            if ess < self.resample_ess * self.n_particles:
                 self._resample()
         if not self.anchored:
             self.lost_steps += 1
@@ -164,7 +169,7 @@ class PathIntegrator:
         if more is not None:
             self.weights *= more
             self.weights /= self.weights.sum()
-            if 1.0 / np.sum(self.weights**2) < 0.5 * self.n_particles:
+            if 1.0 / np.sum(self.weights**2) < self.resample_ess * self.n_particles:
                 self._resample()
         self._summarise()
 
