@@ -14,14 +14,12 @@ import gymnasium as gym
 import numpy as np
 
 from hippo_agent.config import AgentConfig
+from hippo_env.env import ODOMETRY_BOUND
 
 __all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = (
-    4  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads; 4: the exploration map, recruited cells
-)
-ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
+FORMAT_VERSION = 4  # raised whenever what a file holds changes; files of another version are refused
 
 # Every saved array: its name in the file -> (the agent's part holding it, the attribute).
 ARRAY_HOME: dict[str, tuple[str, str]] = {
