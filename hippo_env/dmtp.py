@@ -258,14 +258,7 @@ def run_dmtp(
         if not isinstance(value, (int, np.integer)) or value < 1:
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
     spec = MazeSpec.load(maze)
-    make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
-    if max_episode_steps is not None:
-        make_kwargs["max_episode_steps"] = max_episode_steps
-    _check_make_kwargs(make_kwargs)
-    env = gym.make("HippoMaze-v0", maze=spec, **make_kwargs)
-    counted = _CountingEnv(env, allow_goal=True)
-    rng = np.random.default_rng(seed)
-    agent_seeds = np.random.SeedSequence(seed).generate_state(trials)
+    env, make_kwargs = _make_env(spec, make_agent, env_kwargs, max_episode_steps)
     result = DMTPResult(
         maze=spec.name,
         agent=agent_name,
@@ -278,93 +271,158 @@ def run_dmtp(
         agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
         versions=_versions(),
     )
-    began = time.perf_counter()
-    bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
+    experiment = _Experiment(
+        env, result, make_agent, step_budget, on_run_end, _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
+    )
     env.reset(seed=int(seed), options={"goal": None})
-    agent = None
-    doing = "starting"  # what the loop is doing, for the message of an exception that stops it
-
-    def budget_left() -> bool:
-        return step_budget is None or sum(result.dry_run_steps) + counted.steps < step_budget
-
-    def finish() -> None:
-        result.env_steps_total = sum(result.dry_run_steps) + counted.steps
-        result.seconds = time.perf_counter() - began
-        if bar is not None:
-            bar.close()
-        env.close()
-
-    try:
-        for trial in range(trials):
-            if not budget_left():
-                break
-            goal = spec.sample_free(rng, GOAL_CLEARANCE)
-            starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
-            if same_start:
-                starts = [starts[0]] * runs
-            result.dry_run_steps.append(0)
-            if agent is None or fresh_agent_per_trial:
-                doing = f"building the agent for trial {trial + 1}"
-                agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
-                _check_agent(agent)
-                if trial == 0:
-                    result.agent_config = agent_config(agent)
-                dry_run = dry_run_method(agent)
-                if dry_run is not None:
-                    doing = f"the dry run of trial {trial + 1}"
-                    env.reset(options={"goal": None})
-                    explorer = _CountingEnv(env, allow_goal=False)
-                    try:
-                        dry_run(explorer)
-                    finally:  # an interrupted dry run's steps count too
-                        result.dry_run_steps[-1] = explorer.steps
-            doing = f"starting trial {trial + 1}"
-            if callable(getattr(agent, "start_trial", None)):
-                agent.start_trial(trial)
-            trial_paths: list[np.ndarray] = []
-            result.paths.append(trial_paths)
-            for run in range(runs):
-                if not budget_left():
-                    break
-                doing = f"trial {trial + 1}, run {run + 1}"
-                observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
-                agent.reset(observation, info)
-                steps_before = counted.steps
-                end = rollout(counted, agent, observation, keep_going=budget_left)
-                if not (end.terminated or end.truncated):
-                    break  # cut short by the step budget: not a run
-                info = end.info
-                trial_paths.append(env.unwrapped.path.copy())
-                result.run_records.append(
-                    Run(
-                        trial=trial,
-                        run=run,
-                        steps=counted.steps - steps_before,
-                        success=bool(info["is_success"]),
-                        path_length=float(info["path_length"]),
-                        shortest_path_length=float(info["shortest_path_length"]),
-                        indirectness=float(info.get("indirectness", math.nan)),
-                        start=[float(v) for v in starts[run]],
-                        goal=[float(v) for v in goal],
-                    )
-                )
-                if on_run_end is not None:
-                    doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
-                    on_run_end(trial, run, agent, env)
-                if bar is not None:
-                    bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.run_records[-1].indirectness:.2f}")
-                    bar.update(1)
-    except KeyboardInterrupt:
-        _keep_finished(result)
-        finish()
-        raise DMTPInterrupted(result) from None
-    except Exception as err:
-        _keep_finished(result)
-        result.error = f"{type(err).__name__}: {err}"
-        finish()
-        raise DMTPFailed(result, doing) from err
-    finish()
+    experiment.run(spec, seed, same_start, fresh_agent_per_trial)
     return result
+
+
+def _make_env(
+    spec: MazeSpec, make_agent: AgentFactory, env_kwargs: dict[str, Any] | None, max_episode_steps: int | None
+) -> tuple[gym.Env, dict[str, Any]]:
+    """The experiment's environment and every argument it was made with besides the maze: the
+    factory's own ``env_kwargs``, then ``env_kwargs`` over them, then ``max_episode_steps``."""
+    make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
+    if max_episode_steps is not None:
+        make_kwargs["max_episode_steps"] = max_episode_steps
+    _check_make_kwargs(make_kwargs)
+    return gym.make("HippoMaze-v0", maze=spec, **make_kwargs), make_kwargs
+
+
+def _draw_trial(spec: MazeSpec, rng: np.random.Generator, runs: int, same_start: bool) -> tuple[np.ndarray, list[np.ndarray]]:
+    """A trial's goal and its runs' starts, from the runner's own generator: every agent given the
+    same seed faces the same ones."""
+    goal = spec.sample_free(rng, GOAL_CLEARANCE)
+    starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
+    if same_start:
+        starts = [starts[0]] * runs
+    return goal, starts
+
+
+class _Experiment:
+    """One :func:`run_dmtp` call under way: the environment, the agent, the step count and the record.
+
+    ``doing`` says what the runner is doing, for the message of an exception that stops it.
+    """
+
+    def __init__(
+        self,
+        env: gym.Env,
+        result: DMTPResult,
+        make_agent: AgentFactory,
+        step_budget: int | None,
+        on_run_end: Callable[[int, int, Any, gym.Env], None] | None,
+        bar: Any,
+    ) -> None:
+        self.env = env
+        self.counted = _CountingEnv(env, allow_goal=True)
+        self.result = result
+        self.make_agent = make_agent
+        self.step_budget = step_budget
+        self.on_run_end = on_run_end
+        self.bar = bar
+        self.agent: Any = None
+        self.doing = "starting"
+        self.began = time.perf_counter()
+
+    def run(self, spec: MazeSpec, seed: int, same_start: bool, fresh_agent_per_trial: bool) -> None:
+        """Every trial and run; on Ctrl-C or an exception, keep what finished and raise
+        :class:`DMTPInterrupted` or :class:`DMTPFailed`."""
+        result = self.result
+        rng = np.random.default_rng(seed)
+        agent_seeds = np.random.SeedSequence(seed).generate_state(result.trials)
+        try:
+            for trial in range(result.trials):
+                if not self.budget_left():
+                    break
+                goal, starts = _draw_trial(spec, rng, result.runs, same_start)
+                result.dry_run_steps.append(0)
+                if self.agent is None or fresh_agent_per_trial:
+                    self.agent = self.new_agent(trial, int(agent_seeds[trial]))
+                self.start_trial(trial)
+                for run in range(result.runs):
+                    if not self.budget_left() or not self.run_once(trial, run, goal, starts[run]):
+                        break
+        except KeyboardInterrupt:
+            _keep_finished(result)
+            self.finish()
+            raise DMTPInterrupted(result) from None
+        except Exception as err:
+            _keep_finished(result)
+            result.error = f"{type(err).__name__}: {err}"
+            self.finish()
+            raise DMTPFailed(result, self.doing) from err
+        self.finish()
+
+    def budget_left(self) -> bool:
+        """Whether the step budget (the dry runs' steps included) allows another step."""
+        return self.step_budget is None or sum(self.result.dry_run_steps) + self.counted.steps < self.step_budget
+
+    def new_agent(self, trial: int, seed: int) -> Any:
+        """A new agent for ``trial``, checked, after its dry run (whose steps count, even if it is interrupted)."""
+        self.doing = f"building the agent for trial {trial + 1}"
+        agent = self.make_agent(self.env.observation_space, self.env.action_space, seed=seed)
+        _check_agent(agent)
+        if trial == 0:
+            self.result.agent_config = agent_config(agent)
+        dry_run = dry_run_method(agent)
+        if dry_run is not None:
+            self.doing = f"the dry run of trial {trial + 1}"
+            self.env.reset(options={"goal": None})
+            explorer = _CountingEnv(self.env, allow_goal=False)
+            try:
+                dry_run(explorer)
+            finally:
+                self.result.dry_run_steps[-1] = explorer.steps
+        return agent
+
+    def start_trial(self, trial: int) -> None:
+        """Tell the agent the goal has moved (if it listens), and open the trial's paths."""
+        self.doing = f"starting trial {trial + 1}"
+        if callable(getattr(self.agent, "start_trial", None)):
+            self.agent.start_trial(trial)
+        self.result.paths.append([])
+
+    def run_once(self, trial: int, run: int, goal: np.ndarray, start: np.ndarray) -> bool:
+        """One run from ``start``, recorded; False if the step budget cut it short (not a run: not recorded)."""
+        self.doing = f"trial {trial + 1}, run {run + 1}"
+        observation, info = self.counted.reset(options={"goal": goal, "start": start})
+        self.agent.reset(observation, info)
+        steps_before = self.counted.steps
+        end = rollout(self.counted, self.agent, observation, keep_going=self.budget_left)
+        if not (end.terminated or end.truncated):
+            return False
+        self.result.paths[-1].append(self.env.unwrapped.path.copy())
+        self.result.run_records.append(
+            Run(
+                trial=trial,
+                run=run,
+                steps=self.counted.steps - steps_before,
+                success=bool(end.info["is_success"]),
+                path_length=float(end.info["path_length"]),
+                shortest_path_length=float(end.info["shortest_path_length"]),
+                indirectness=float(end.info.get("indirectness", math.nan)),
+                start=[float(v) for v in start],
+                goal=[float(v) for v in goal],
+            )
+        )
+        if self.on_run_end is not None:
+            self.doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
+            self.on_run_end(trial, run, self.agent, self.env)
+        if self.bar is not None:
+            self.bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{self.result.run_records[-1].indirectness:.2f}")
+            self.bar.update(1)
+        return True
+
+    def finish(self) -> None:
+        """Count the steps, stop the clock, close the progress bar and the environment."""
+        self.result.env_steps_total = sum(self.result.dry_run_steps) + self.counted.steps
+        self.result.seconds = time.perf_counter() - self.began
+        if self.bar is not None:
+            self.bar.close()
+        self.env.close()
 
 
 def _keep_finished(result: DMTPResult) -> None:
