@@ -70,7 +70,9 @@ class ScanFeatures:
     """
 
     def __init__(self, observation_space: gym.spaces.Space, n_bins: int = 90, allocentric: bool = True) -> None:
-        if not (isinstance(observation_space, gym.spaces.Dict) and {"ranges", "heading"} <= set(observation_space.spaces)):
+        if not isinstance(observation_space, gym.spaces.Dict):
+            raise TypeError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
+        if not {"ranges", "heading"} <= set(observation_space.spaces):
             raise ValueError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
         ranges = observation_space["ranges"]
         self.n_rays = int(ranges.shape[0])
@@ -200,7 +202,7 @@ def _quiet_logger():
 
 def _check_discrete(action_space: gym.spaces.Space, name: str) -> None:
     if not isinstance(action_space, gym.spaces.Discrete):
-        raise ValueError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
+        raise TypeError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
 
 
 class _SB3Agent:
@@ -399,7 +401,7 @@ class PPOAgent(_SB3Agent):
         from stable_baselines3.common.distributions import CategoricalDistribution
 
         if not isinstance(self.policy.action_dist, CategoricalDistribution):
-            raise ValueError("PPOAgent supports the categorical policy of a Discrete action space only")
+            raise TypeError("PPOAgent supports the categorical policy of a Discrete action space only")
         extractor = self.policy.mlp_extractor
         self.pi_net = _NumpyMLP(extractor.policy_net, self.policy.action_net)
         self.vf_net = _NumpyMLP(extractor.value_net, self.policy.value_net)

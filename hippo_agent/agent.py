@@ -50,6 +50,7 @@ from hippo_agent import analysis, persistence
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells, _kernels
 from hippo_agent.config import AgentConfig
 from hippo_agent.explore import ExplorationMap
+from hippo_env.checks import check_int
 from hippo_env.dmtp import rollout
 from hippo_env.geometry import wrap_angle
 
@@ -88,11 +89,9 @@ class HippocampalAgent:
         if config is None:
             config = AgentConfig()
         if not isinstance(config, AgentConfig):
-            raise ValueError(f"config must be an AgentConfig, got {type(config).__name__}")
+            raise TypeError(f"config must be an AgentConfig, got {type(config).__name__}")
         if seed is not None:
-            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-                raise ValueError(f"seed={seed!r} is invalid; allowed: None or an integer >= 0")
-            seed = int(seed)
+            seed = check_int(seed, "seed", 0, "None or an integer >= 0")
         self.config = config
         self.seed = seed
         self.n_rays, self.max_range, self.has_odometry = self._check_observation_space(observation_space)
@@ -146,15 +145,20 @@ class HippocampalAgent:
         import gymnasium as gym
 
         allowed = "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), optionally with odometry=Box(..., (2,))"
-        keys = set(space.spaces) if isinstance(space, gym.spaces.Dict) else set()
+        if not isinstance(space, gym.spaces.Dict):
+            raise TypeError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
+        keys = set(space.spaces)
         if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
         ranges, heading = space["ranges"], space["heading"]
-        if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
+        for key, box in space.spaces.items():
+            if not isinstance(box, gym.spaces.Box):
+                raise TypeError(f"observation space {key!r} {_describe_space(box)} is unsupported; allowed: a Box")
+        if len(ranges.shape) != 1 or ranges.shape[0] < 8:
             raise ValueError(
                 f"observation space 'ranges' {_describe_space(ranges)} is unsupported; allowed: a 1-D Box with at least 8 rays"
             )
-        if not isinstance(heading, gym.spaces.Box) or heading.shape != (2,):
+        if heading.shape != (2,):
             raise ValueError(
                 f"observation space 'heading' {_describe_space(heading)} is unsupported; "
                 "allowed: Box(-1, 1, (2,)) holding (cos, sin) of the heading"
@@ -163,7 +167,7 @@ class HippocampalAgent:
         if not (math.isfinite(max_range) and max_range > 0):
             raise ValueError(f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0")
         odometry = space.spaces.get("odometry")
-        if odometry is not None and (not isinstance(odometry, gym.spaces.Box) or odometry.shape != (2,)):
+        if odometry is not None and odometry.shape != (2,):
             raise ValueError(
                 f"observation space 'odometry' {_describe_space(odometry)} is unsupported; "
                 "allowed: Box(low, high, (2,)) holding the (forward, left) displacement in metres"
@@ -186,6 +190,8 @@ class HippocampalAgent:
             lo, hi = float(space.low[0]), float(space.high[0])
             if lo <= -math.pi + 1e-3 and hi >= math.pi - 1e-3:
                 return "heading", 1
+        if not isinstance(space, gym.spaces.Box):
+            raise TypeError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
         raise ValueError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
 
     # ================================================================== protocol

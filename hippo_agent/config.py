@@ -31,8 +31,8 @@ __all__ = ["AgentConfig"]
 class AgentConfig:
     """Parameters of :class:`hippo_agent.HippocampalAgent`.
 
-    Construct with keyword arguments; anything left out keeps its default. Invalid values raise
-    ``ValueError`` naming the field and what is allowed. ``AgentConfig.from_dict(cfg.to_dict())``
+    Construct with keyword arguments; anything left out keeps its default. A value of the wrong
+    type raises ``TypeError``, an invalid value ``ValueError``, naming the field and what is allowed. ``AgentConfig.from_dict(cfg.to_dict())``
     round-trips exactly.
     """
 
@@ -329,19 +329,22 @@ class AgentConfig:
         def bad(name: str, allowed: str) -> ValueError:
             return ValueError(f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}")
 
+        def wrong_type(name: str, allowed: str) -> TypeError:
+            return TypeError(f"AgentConfig.{name}={getattr(self, name)!r} is of the wrong type; allowed: {allowed}")
+
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
             if f.name == "bvc_max_distance" and value is None:
                 continue
             if f.type in ("bool",):
                 if not isinstance(value, bool):
-                    raise bad(f.name, "True or False")
+                    raise wrong_type(f.name, "True or False")
             elif f.type == "int":
                 if isinstance(value, bool) or not isinstance(value, int):
-                    raise bad(f.name, "an integer")
+                    raise wrong_type(f.name, "an integer")
             elif f.type in ("float", "float | None"):
                 if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    raise bad(f.name, "a finite number")
+                    raise wrong_type(f.name, "a finite number")
                 if not math.isfinite(float(value)):
                     raise bad(f.name, "a finite number (not NaN or inf)")
 
@@ -424,9 +427,11 @@ class AgentConfig:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> AgentConfig:
-        """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
+        """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``, a value of the
+        wrong type ``TypeError``. Fields left out keep their defaults (a config saved before a field
+        was added loads with it)."""
         if not isinstance(data, dict):
-            raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
+            raise TypeError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
         unknown = unknown_fields(cls, data)
         if unknown:
             raise ValueError(f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}")

@@ -180,5 +180,5 @@ def load(cls: type, path: str | os.PathLike) -> Any:
     except ValueError as exc:
         raise ValueError(f"{what}: {exc}") from exc
     except (KeyError, TypeError, AttributeError) as exc:
-        raise ValueError(f"{what}: metadata is incomplete ({type(exc).__name__}: {exc})") from exc
+        raise ValueError(f"{what}: metadata is incomplete or malformed ({type(exc).__name__}: {exc})") from exc
     return agent

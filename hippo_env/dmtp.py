@@ -26,6 +26,7 @@ import gymnasium as gym
 import numpy as np
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
+from hippo_env.checks import check_int
 from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
@@ -248,15 +249,15 @@ def run_dmtp(
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
 
     Raises:
-        ValueError: Bad ``trials``, ``runs`` or maze, or an environment argument ``HippoMaze-v0`` does not take.
+        TypeError: ``trials`` or ``runs`` not an integer, or an agent that does not follow the protocol.
+        ValueError: ``trials`` or ``runs`` below 1, a bad maze, or an environment argument ``HippoMaze-v0`` does not take.
         DMTPInterrupted: On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` holds the finished runs.
         DMTPFailed: When an exception escapes the agent, the environment or ``on_run_end`` once the
             experiment has begun; raised from that exception (its traceback is kept), with the
             finished runs in its ``result``.
     """
-    for name, value in (("trials", trials), ("runs", runs)):
-        if not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    check_int(trials, "trials", 1, "a positive integer")
+    check_int(runs, "runs", 1, "a positive integer")
     spec = MazeSpec.load(maze)
     env, make_kwargs = _make_env(spec, make_agent, env_kwargs, max_episode_steps)
     result = DMTPResult(

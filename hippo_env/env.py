@@ -11,6 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from hippo_env import physics
+from hippo_env.checks import check_int, check_number
 from hippo_env.geodesic import DistanceField
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
@@ -147,11 +148,10 @@ class HippoMazeEnv(gym.Env):
 
             check_human_display()  # now, not as a silent blank window at the first step
         if not isinstance(odometry, bool):
-            raise ValueError(f"odometry must be True or False, got {odometry!r}")
+            raise TypeError(f"odometry must be True or False, got {odometry!r}")
         noises = (("range_noise", range_noise), ("odometry_noise", odometry_noise), ("heading_noise", heading_noise))
         for name, value in (*noises, ("goal_radius", goal_radius), ("min_start_distance", min_start_distance)):
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+            check_number(value, name, "a finite number >= 0", 0.0)
         if goal_radius <= 0:
             raise ValueError(f"goal_radius must be positive, got {goal_radius!r}")
         self.maze = MazeSpec.load(maze)
@@ -226,9 +226,7 @@ class HippoMazeEnv(gym.Env):
             start = self.maze.sample_free(self.np_random, START_CLEARANCE, away_from=self.goal, min_distance=self.min_start_distance)
         heading = self.np_random.uniform(-math.pi, math.pi)
         if "heading" in options:
-            heading = options["heading"]
-            if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
-                raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
+            heading = check_number(options["heading"], "reset option 'heading'", "a finite angle in radians")
         self.world.reset(start, float(heading))
         self._reset_done = True
         self._path.reset(self.world.position)
@@ -397,8 +395,7 @@ class HippoMazeEnv(gym.Env):
         if goal is not None:
             return self._check_goal(goal, "argument 'goal'")
         if goal_seed is not None:
-            if not isinstance(goal_seed, (int, np.integer)) or isinstance(goal_seed, bool) or goal_seed < 0:
-                raise ValueError(f"goal_seed must be a non-negative integer, got {goal_seed!r}")
+            check_int(goal_seed, "goal_seed", 0, "a non-negative integer")
             return self.maze.sample_free(np.random.default_rng(int(goal_seed)), GOAL_CLEARANCE)
         return None if self.maze.goal is None else np.asarray(self.maze.goal, float)
 

@@ -70,6 +70,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hippo_env.checks import check_int, check_number
 from hippo_env.geometry import counter_clockwise, polygon_distance
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
@@ -155,15 +156,10 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
             (7-40 m for ``"arena"``), ``cells`` out of range, too many cells for the size, or
             given to a kind without cells, or an empty name.
     """
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-    if seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed}")
+    check_int(seed, "seed", 0, "a non-negative integer")
     if kind not in KINDS:
         raise ValueError(f"maze kind {kind!r} is unknown; allowed kinds: {', '.join(KINDS)}")
-    if isinstance(size, bool) or not isinstance(size, (int, float, np.integer, np.floating)) or not math.isfinite(size):
-        raise ValueError(f"size must be a number of metres from {MIN_SIZE:g} to {MAX_SIZE:g}, got {size!r}")
-    size = float(size)
+    size = check_number(size, "size", f"a number of metres from {MIN_SIZE:g} to {MAX_SIZE:g}")
     if not MIN_SIZE <= size <= MAX_SIZE:
         raise ValueError(f"size must be from {MIN_SIZE:g} to {MAX_SIZE:g} m, got {size:g}")
     if kind == "arena" and size < MIN_ARENA_SIZE:
@@ -175,7 +171,9 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
         name = f"gen-{kind}-{int(seed)}" + ("" if size == 10.0 else f"-{size:g}m")
         if cells is not None and k != default_cells(kind, size):
             name += f"-{k}x{k}"
-    elif not isinstance(name, str) or not name:
+    elif not isinstance(name, str):
+        raise TypeError(f"name must be a non-empty string or None, got {name!r}")
+    elif not name:
         raise ValueError(f"name must be a non-empty string or None, got {name!r}")
 
     rng = np.random.default_rng(int(seed))
@@ -230,8 +228,9 @@ def _check_cells(kind: str, size: float, cells: int | None) -> int | None:
     if cells is None:
         return default_cells(kind, size)
     low, high, smallest, what = (*PERFECT_CELLS, MIN_CELL, "cell") if kind == "perfect" else (*ROOM_GRIDS, MIN_ROOM, "room")
-    if isinstance(cells, bool) or not isinstance(cells, (int, np.integer)) or not low <= cells <= high:
-        raise ValueError(f"cells must be an integer from {low} to {high} for kind {kind!r}, got {cells!r}")
+    allowed = f"an integer from {low} to {high} for kind {kind!r}"
+    if check_int(cells, "cells", low, allowed) > high:
+        raise ValueError(f"cells must be {allowed}, got {cells!r}")
     if size / cells < smallest - 1e-9:
         raise ValueError(
             f"cells={cells} is too many for a {size:g} m arena: a {what} would be {size / cells:.2f} m, less than the "

@@ -63,7 +63,9 @@ class MazeSpec:
     _segments: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
+        if not isinstance(self.name, str):
+            raise TypeError(f"maze 'name' must be a non-empty string, got {self.name!r}")
+        if not self.name:
             raise ValueError(f"maze 'name' must be a non-empty string, got {self.name!r}")
         size = _as_point(self.size, f"maze {self.name!r}: 'size'")
         if size[0] <= 0 or size[1] <= 0:
@@ -75,11 +77,11 @@ class MazeSpec:
         object.__setattr__(self, "size", size)
         polygons = []
         if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
-            raise ValueError(f"maze {self.name!r}: 'obstacles' must be a list of polygons, got {self.obstacles!r}")
+            raise TypeError(f"maze {self.name!r}: 'obstacles' must be a list of polygons, got {self.obstacles!r}")
         for n, polygon in enumerate(self.obstacles):
             where = f"maze {self.name!r}: obstacle {n}"
             if isinstance(polygon, (str, bytes)) or not hasattr(polygon, "__iter__"):
-                raise ValueError(f"{where} must be a list of [x, y] vertices, got {polygon!r}")
+                raise TypeError(f"{where} must be a list of [x, y] vertices, got {polygon!r}")
             vertices = tuple(_as_point(p, f"{where}, vertex {k}") for k, p in enumerate(polygon))
             if len(vertices) < 3:
                 raise ValueError(f"{where} has {len(vertices)} vertices; a polygon needs at least 3")
@@ -99,9 +101,12 @@ class MazeSpec:
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_dict(cls, data: Any, source: str = "maze") -> MazeSpec:
-        """Build a spec from the JSON structure ``{"name", "size", "obstacles", ["goal"]}``."""
+        """Build a spec from the JSON structure ``{"name", "size", "obstacles", ["goal"]}``.
+
+        A field of the wrong type raises ``TypeError`` (:meth:`load`, which reads a document,
+        raises ``ValueError`` for anything wrong in it)."""
         if not isinstance(data, dict):
-            raise ValueError(f"{source}: a maze must be a JSON object with keys name, size, obstacles, got {type(data).__name__}")
+            raise TypeError(f"{source}: a maze must be a JSON object with keys name, size, obstacles, got {type(data).__name__}")
         allowed = {"name", "size", "obstacles", "goal"}
         unknown = sorted(set(data) - allowed)
         if unknown:
@@ -117,12 +122,12 @@ class MazeSpec:
         if isinstance(maze, MazeSpec):
             return maze
         if not isinstance(maze, (str, Path)):
-            raise ValueError(
+            raise TypeError(
                 f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}"
             )
         if isinstance(maze, str) and maze in BUILTIN_MAZES:
             text = resources.files("hippo_env.mazes").joinpath(f"{maze}.json").read_text()
-            return cls.from_dict(json.loads(text), source=f"built-in maze {maze!r}")
+            return cls._from_document(json.loads(text), source=f"built-in maze {maze!r}")
         path = Path(maze)
         if path.suffix.lower() != ".json" and not path.exists():
             raise ValueError(f"maze {str(maze)!r} is unknown; built-in mazes: {_builtin_names()}, or give a path to a JSON file")
@@ -136,7 +141,15 @@ class MazeSpec:
             data = json.loads(text)
         except json.JSONDecodeError as err:
             raise ValueError(f"maze file {str(path)!r} is not valid JSON: {err}") from err
-        return cls.from_dict(data, source=f"maze file {str(path)!r}")
+        return cls._from_document(data, source=f"maze file {str(path)!r}")
+
+    @classmethod
+    def _from_document(cls, data: Any, source: str) -> MazeSpec:
+        """:meth:`from_dict` for the content of a file: whatever is wrong in it is a ``ValueError``."""
+        try:
+            return cls.from_dict(data, source=source)
+        except TypeError as err:
+            raise ValueError(str(err)) from err
 
     def to_dict(self) -> dict[str, Any]:
         data: dict[str, Any] = {

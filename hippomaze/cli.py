@@ -96,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "dmtp":
             return run_dmtp_command(args)
         return run_paper_command(args)
-    except ValueError as err:
+    except (ValueError, TypeError) as err:  # a bad argument, named in the message
         print(f"hippomaze: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hippomaze.baselines import RandomAgent
 
-from hippo_env.dmtp import DMTPFailed, DMTPResult, Run, run_dmtp
+from hippo_env.dmtp import DMTPFailed, DMTPResult, run_dmtp
 from hippomaze.registry import load_agent
 
 RUN_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
@@ -140,11 +140,11 @@ def test_agent_missing_methods_is_refused():
     assert isinstance(failed.value.__cause__, TypeError)
 
 
-@pytest.mark.parametrize("value", [0, -1, 1.5, "2"])
-def test_bad_trials_or_runs(value):
-    with pytest.raises(ValueError, match="trials must be a positive integer"):
+@pytest.mark.parametrize("value,error", [(0, ValueError), (-1, ValueError), (1.5, TypeError), ("2", TypeError)])
+def test_bad_trials_or_runs(value, error):
+    with pytest.raises(error, match="trials must be a positive integer"):
         run_dmtp(RandomAgent, trials=value, runs=1, progress=False)
-    with pytest.raises(ValueError, match="runs must be a positive integer"):
+    with pytest.raises(error, match="runs must be a positive integer"):
         run_dmtp(RandomAgent, trials=1, runs=value, progress=False)
 
 
@@ -157,7 +157,7 @@ def test_load_agent():
         load_agent("no_such_module_xyz:Agent")
     with pytest.raises(ValueError, match="module 'hippomaze.baselines' has no attribute 'Nope'"):
         load_agent("hippomaze.baselines:Nope")
-    with pytest.raises(ValueError, match="does not follow the Agent protocol: it lacks reset, act, observe"):
+    with pytest.raises(TypeError, match="does not follow the Agent protocol: it lacks reset, act, observe"):
         load_agent("json:JSONDecoder")
 
 
