@@ -6,14 +6,20 @@ SB3's ``learn()`` owns the environment loop; the DMTP runner owns it here. The t
 reimplement the *collection* side of ``learn()`` and call SB3 for everything else:
 
 - :class:`DQNAgent`: each ``observe`` adds the transition to SB3's ``ReplayBuffer`` (with the
-  ``TimeLimit.truncated`` flag, so a time-out is not a terminal state), advances SB3's progress
-  counter and calls ``DQN._on_step()`` (target-network updates, the epsilon schedule); every
-  ``train_freq`` steps after ``learning_starts`` it calls ``DQN.train(gradient_steps, batch_size)``,
-  exactly as ``OffPolicyAlgorithm.learn`` / ``collect_rollouts`` do for one environment.
+  ``TimeLimit.truncated`` flag, so a time-out is not a terminal state), copies the Q-network into
+  the target network every ``target_update_interval`` steps (SB3's public ``polyak_update``) and
+  sets epsilon from DQN's ``exploration_schedule``, as ``DQN`` does after each step of its own
+  loop; every ``train_freq`` steps after ``learning_starts`` it calls
+  ``DQN.train(gradient_steps, batch_size)``, exactly as ``OffPolicyAlgorithm.learn`` /
+  ``collect_rollouts`` do for one environment.
 - :class:`PPOAgent`: each ``act`` evaluates SB3's ``ActorCriticPolicy`` (action, value, log-prob),
   each ``observe`` adds to SB3's ``RolloutBuffer`` (bootstrapping a time-out with the value of the
   last observation, as ``OnPolicyAlgorithm.collect_rollouts`` does); after ``n_steps`` it calls
   ``compute_returns_and_advantage`` and ``PPO.train()``.
+
+Only SB3's public API is used: the progress through a schedule, which SB3 keeps privately and
+updates only inside ``learn()``, is computed here; the learning rate and PPO's clip range are
+constants (floats in :mod:`hippomaze.baselines.hyperparams`), so ``train()`` does not read it.
 
 Acting goes through a NumPy copy of the torch network (:class:`_NumpyMLP`, refreshed after every
 training phase): one observation at a time, torch's per-call overhead costs more than the
@@ -200,6 +206,15 @@ def _quiet_logger():
     return Logger(folder=None, output_formats=[])
 
 
+def _update_target_network(model: Any) -> None:
+    """Move DQN's target network toward its Q-network by ``tau`` (1 by default: a copy), batch-norm
+    statistics copied outright, as ``DQN`` does every ``target_update_interval`` steps."""
+    from stable_baselines3.common.utils import polyak_update
+
+    polyak_update(model.q_net.parameters(), model.q_net_target.parameters(), model.tau)
+    polyak_update(model.batch_norm_stats, model.batch_norm_stats_target, 1.0)
+
+
 def _check_discrete(action_space: gym.spaces.Space, name: str) -> None:
     if not isinstance(action_space, gym.spaces.Discrete):
         raise TypeError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
@@ -328,8 +343,9 @@ class DQNAgent(_SB3Agent):
         self._x = next_x
         self.num_timesteps += 1
         self.model.num_timesteps = self.num_timesteps
-        self.model._current_progress_remaining = self._progress_remaining()
-        self.model._on_step()  # target network every target_update_interval steps; epsilon from the schedule
+        if self.num_timesteps % max(self.model.target_update_interval, 1) == 0:
+            _update_target_network(self.model)
+        self.model.exploration_rate = self.model.exploration_schedule(self._progress_remaining())
         self.exploration_rate = float(self.model.exploration_rate)
         since = self.num_timesteps - self.schedule_origin
         if since % p.train_freq == 0 and since > p.learning_starts:
@@ -343,7 +359,6 @@ class DQNAgent(_SB3Agent):
         self.model.replay_buffer.reset()
         self.schedule_origin = self.num_timesteps
         self.schedule_length = int(self.params.switch_timesteps)
-        self.model._current_progress_remaining = 1.0
         self.exploration_rate = self.params.exploration_initial_eps
 
 
@@ -445,7 +460,6 @@ class PPOAgent(_SB3Agent):
         if self.buffer.full:
             last_value = self.torch.as_tensor(self.vf_net(self.features(observation)).reshape(1, 1), dtype=self.torch.float32)
             self.buffer.compute_returns_and_advantage(last_values=last_value, dones=np.array([done]))
-            self.model._current_progress_remaining = self._progress_remaining()
             with self.random_state:
                 self.model.train()
             self.policy.set_training_mode(False)
