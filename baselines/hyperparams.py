@@ -90,7 +90,7 @@ class DQNParams(_OnlineParams):
         exploration_final_eps: Epsilon after the decay (zoo: 0.07).
         max_grad_norm: Gradient clipping (SB3 default: 10).
         net_arch: Hidden layer sizes of the Q-network (SB3 default [64, 64]; the zoo's [256, 256] is
-            in the sweep: it costs 2.6x the compute per gradient step on this machine).
+            in the sweep; it costs several times the compute per gradient step).
         n_bins: Sectors the 720-ray scan is mean-pooled into (720 = no pooling).
         allocentric: Rotate the scan into the world frame with the compass heading.
         n_timesteps: Steps over which the schedules run (the benchmark sets it to its budget).

@@ -25,7 +25,7 @@ Acting goes through a NumPy copy of the torch network (:class:`_NumpyMLP`, refre
 training phase): one observation at a time, torch's per-call overhead costs more than the
 environment step, and the copy computes the same function.
 
-This was chosen over running ``learn()`` in a thread against a proxy environment: no threads, no
+Why not ``learn()`` in a thread against a proxy environment: this way there are no threads, no
 hand-over protocol, nothing to deadlock when a run is cut by the step budget, and the agent never
 needs to know when the runner will stop.
 

@@ -135,7 +135,7 @@ class AgentConfig:
     iteration: a short tau_r keeps the value steep around the goal, where the near misses happen;
     a long one carries value further along winding paths. Tuned with the directed dry run (open,
     maze2, maze4 and generated perfect and rooms mazes): 2.0 did better than 1.0 overall, most in
-    the perfect and rooms mazes (the random-walk dry run had preferred 1.0)."""
+    the perfect and rooms mazes."""
 
     # ---------------------------------------------------------------- exploitation (eqs. 8-11)
     lambda_: float = 0.05
@@ -205,9 +205,8 @@ class AgentConfig:
     place_cells_per_m2: float = 10.0
     """Directed dry run: place cells are recruited so that there are at least this many per
     square metre of free ground the exploration map knows (up to ``max_place_cells``): a larger
-    arena gets more cells. 10 keeps the 1000 cells of a 10 m arena (96 m^2 free), where they
-    were tuned, and gives a 20 m arena about 3,800 (1000 cells saturated there: almost every
-    one had fired)."""
+    arena gets more cells. 10 keeps the 1000 cells of a 10 m arena (96 m^2 free), where the model
+    is tuned; in a 20 m arena 1000 cells would almost all be in use."""
     max_place_cells: int = 16000
     """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
     pi_min_anchor_steps: int = 20
@@ -314,9 +313,8 @@ class AgentConfig:
     pi_vote_by_spread: bool = True
     """Each cell learns how far from its centre the boundary code alone fires it (its spread), and
     votes for positions with a normalised Gaussian that wide: cells that also fire at distant
-    look-alike places vote broadly and weakly. Why: without it, a run's estimate was more often
-    anchored at a look-alike place (``python -m benchmarks.diagnose --maze maze4``, its misplaced
-    runs); tuned on seeds 2 and 3 in open, maze1, maze2 and maze4."""
+    look-alike places vote broadly and weakly. Why: without it a run's estimate is more often
+    anchored at a look-alike place (tuned in open, maze1, maze2 and maze4; ``docs/parameters.md``)."""
 
     # ------------------------------------------------------------------------------------------
     @classmethod

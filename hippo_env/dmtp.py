@@ -110,7 +110,7 @@ class DMTPResult:
             record["complete"] = False
         if self.error is not None:
             record["error"] = self.error
-        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the key committed records have
+        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the documented key of dmtp.json
         return record
 
     def save(self, out_dir: str | Path) -> Path:

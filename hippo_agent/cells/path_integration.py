@@ -159,7 +159,7 @@ class PathIntegrator:
             vote_var = self.vote_sigma**2
             gauss = np.empty((self.n_particles, rates.size))
             _kernels.vote_exponents(self.particles, self.lag, self.last_step, centres, spreads, vote_var, gauss)
-            np.exp(gauss, out=gauss)  # (NumPy's vectorised exp: 4x faster than one call per value)
+            np.exp(gauss, out=gauss)  # NumPy's vectorised exp, over the whole block at once
             ess = _kernels.reweigh(gauss, rates, spreads, vote_var, self.vote_floor, self.weights)
             if ess < self.resample_ess * self.n_particles:
                 self._resample()
