@@ -27,9 +27,11 @@ test: $(STAMP)
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
 
+# ruff on everything; mypy on the packages (and baselines/), its settings in pyproject.toml.
 lint: $(STAMP)
 	$(VENV)/bin/ruff check hippo_env hippo_agent hippomaze baselines benchmarks tests
 	$(VENV)/bin/ruff format --check hippo_env hippo_agent hippomaze baselines benchmarks tests
+	$(VENV)/bin/mypy
 
 clean:
 	rm -rf $(VENV) demo_out .pytest_cache

@@ -54,7 +54,7 @@ that, by the success rate of the last 50 runs. The defaults below are the winner
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field, fields, replace
-from typing import Any
+from typing import Any, Literal, overload
 
 from hippo_env.files import unknown_fields
 
@@ -188,6 +188,14 @@ class DynaQParams:
 PARAMS = {"dqn": DQNParams, "ppo": PPOParams, "dynaq": DynaQParams}
 
 
+@overload
+def make_params(agent: Literal["dqn"], **overrides: Any) -> DQNParams: ...
+@overload
+def make_params(agent: Literal["ppo"], **overrides: Any) -> PPOParams: ...
+@overload
+def make_params(agent: Literal["dynaq"], **overrides: Any) -> DynaQParams: ...
+@overload
+def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQParams: ...
 def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQParams:
     """The default parameters of ``agent`` (``dqn``, ``ppo``, ``dynaq``) with ``overrides`` applied.
 

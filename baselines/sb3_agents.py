@@ -81,6 +81,8 @@ class ScanFeatures:
         if not {"ranges", "heading"} <= set(observation_space.spaces):
             raise ValueError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
         ranges = observation_space["ranges"]
+        if not isinstance(ranges, gym.spaces.Box):
+            raise TypeError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
         self.n_rays = int(ranges.shape[0])
         if n_bins < 1 or self.n_rays % n_bins:
             raise ValueError(f"n_bins={n_bins} must divide the number of rays ({self.n_rays}); e.g. 90, 180 or {self.n_rays}")
@@ -108,10 +110,10 @@ class _SpacesEnv(gym.Env):
         self.observation_space = observation_space
         self.action_space = action_space
 
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         raise RuntimeError("the baselines are driven by the DMTP runner; SB3's own environment loop is not used")
 
-    def step(self, action: Any):
+    def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
         raise RuntimeError("the baselines are driven by the DMTP runner; SB3's own environment loop is not used")
 
 
@@ -215,9 +217,10 @@ def _update_target_network(model: Any) -> None:
     polyak_update(model.batch_norm_stats, model.batch_norm_stats_target, 1.0)
 
 
-def _check_discrete(action_space: gym.spaces.Space, name: str) -> None:
+def _check_discrete(action_space: gym.spaces.Space, name: str) -> gym.spaces.Discrete:
     if not isinstance(action_space, gym.spaces.Discrete):
         raise TypeError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
+    return action_space
 
 
 class _SB3Agent:
@@ -232,12 +235,12 @@ class _SB3Agent:
         torch, _ = _import_sb3()
         torch.set_num_threads(1)
         self.torch = torch
-        _check_discrete(action_space, type(self).__name__)
+        discrete = _check_discrete(action_space, type(self).__name__)
         self.params = params
         self.seed = int(np.random.SeedSequence(seed).generate_state(1)[0]) if seed is None else int(seed)
         self.features = ScanFeatures(observation_space, params.n_bins, params.allocentric)
         self.action_space = action_space
-        self.n_actions = int(action_space.n)
+        self.n_actions = int(discrete.n)
         self.rng = np.random.default_rng(self.seed)
         self.random_state = _OwnRandomState(torch, self.seed)
         self.num_timesteps = 0  # every transition observed
@@ -316,6 +319,8 @@ class DQNAgent(_SB3Agent):
         self.model.set_logger(_quiet_logger())
         self.model.policy.set_training_mode(False)
         self.q_net = _NumpyMLP(self.model.q_net.q_net)  # the features extractor is a Flatten
+        assert self.model.replay_buffer is not None  # DQN makes it on construction
+        self.replay_buffer = self.model.replay_buffer
         self.exploration_rate = params.exploration_initial_eps
         self._action = 0
 
@@ -336,7 +341,8 @@ class DQNAgent(_SB3Agent):
         p = self.params
         next_x = self.features(observation)
         timeout = bool(truncated and not terminated)
-        self.model.replay_buffer.add(
+        assert self._x is not None, "observe() before act()"
+        self.replay_buffer.add(
             self._x[None], next_x[None], np.array([[int(action)]]), np.array([float(reward)], np.float32),
             np.array([bool(terminated or truncated)]), [{"TimeLimit.truncated": timeout}],
         )  # fmt: skip
@@ -356,7 +362,7 @@ class DQNAgent(_SB3Agent):
             self.q_net.refresh()
 
     def _on_new_goal(self) -> None:
-        self.model.replay_buffer.reset()
+        self.replay_buffer.reset()
         self.schedule_origin = self.num_timesteps
         self.schedule_length = int(self.params.switch_timesteps)
         self.exploration_rate = self.params.exploration_initial_eps

@@ -150,10 +150,12 @@ class HippocampalAgent:
         keys = set(space.spaces)
         if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
-        ranges, heading = space["ranges"], space["heading"]
+        boxes: dict[str, gym.spaces.Box] = {}
         for key, box in space.spaces.items():
             if not isinstance(box, gym.spaces.Box):
                 raise TypeError(f"observation space {key!r} {_describe_space(box)} is unsupported; allowed: a Box")
+            boxes[key] = box
+        ranges, heading, odometry = boxes["ranges"], boxes["heading"], boxes.get("odometry")
         if len(ranges.shape) != 1 or ranges.shape[0] < 8:
             raise ValueError(
                 f"observation space 'ranges' {_describe_space(ranges)} is unsupported; allowed: a 1-D Box with at least 8 rays"
@@ -166,7 +168,6 @@ class HippocampalAgent:
         max_range = float(np.max(ranges.high))
         if not (math.isfinite(max_range) and max_range > 0):
             raise ValueError(f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0")
-        odometry = space.spaces.get("odometry")
         if odometry is not None and odometry.shape != (2,):
             raise ValueError(
                 f"observation space 'odometry' {_describe_space(odometry)} is unsupported; "
@@ -439,6 +440,7 @@ class HippocampalAgent:
         ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
         ground not searched in this run.
         """
+        assert self.map is not None  # directed exploration only
         here = self.pi.estimate
         if self.phase != "dry":
             return self.map.heading_to_unvisited(here, this_run=True)
@@ -466,6 +468,7 @@ class HippocampalAgent:
     def _transit_destination(self, here: np.ndarray) -> int:
         """A random visited place at least ``transit_min_distance`` away along the known ground
         (a map cell's flat index), or -1 if there is none."""
+        assert self.map is not None  # directed exploration only
         cells, steps = self.map.reachable_visited(here)
         far = cells[steps * self.config.map_cell >= self.config.transit_min_distance]
         if far.size == 0:
@@ -475,6 +478,7 @@ class HippocampalAgent:
     def _recruit(self) -> None:
         """Recruit place cells up to ``place_cells_per_m2`` of the free ground the map knows
         (at least ``recruit_min`` at a time, at most ``max_place_cells`` in all)."""
+        assert self.map is not None  # directed exploration only
         c = self.config
         wanted = min(math.ceil(c.place_cells_per_m2 * self.map.explored_area()), c.max_place_cells)
         if wanted > self.place.n:
@@ -498,6 +502,7 @@ class HippocampalAgent:
         lanes, not along direct routes, and links laid by walking direct routes (transits) are
         what made later runs direct, at the cost of environment steps.
         """
+        assert self.map is not None  # directed exploration only
         c = self.config
         budget = round(c.rest_factor * self.sweep_steps)
         if budget <= 0 or not self.codes:

@@ -133,13 +133,14 @@ def load(cls: type, path: str | os.PathLike) -> Any:
     try:
         config = AgentConfig.from_dict(meta["config"])
         n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
-        spaces = {
+        spaces: dict[str, gym.spaces.Space] = {
             "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
             "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
         }
         if meta["observation"]["odometry"]:
             spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
         obs_space = gym.spaces.Dict(spaces)
+        act_space: gym.spaces.Space
         if meta["action"]["kind"] == "discrete":
             act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
         else:

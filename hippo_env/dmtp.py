@@ -20,14 +20,14 @@ import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, SupportsFloat
 
 import gymnasium as gym
 import numpy as np
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
 from hippo_env.checks import check_int
-from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv
+from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv, maze_env
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
 
@@ -118,7 +118,8 @@ class DMTPResult:
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         buffer = io.BytesIO()
-        np.savez_compressed(buffer, **{f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)})
+        arrays: dict[str, Any] = {f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)}
+        np.savez_compressed(buffer, **arrays)
         atomic_write(out / "paths.npz", buffer.getvalue())
         return write_json(out / "dmtp.json", self.to_dict())
 
@@ -177,7 +178,9 @@ def rollout(
 
     The caller resets the env and the agent first. With ``max_steps=0`` nothing happens.
     """
-    reward, terminated, truncated, info, steps = 0.0, False, False, {}, 0
+    reward: SupportsFloat = 0.0
+    terminated, truncated, steps = False, False, 0
+    info: dict[str, Any] = {}
     while max_steps is None or steps < max_steps:
         action = agent.act(observation)
         observation, reward, terminated, truncated, info = env.step(action)
@@ -196,12 +199,12 @@ class _CountingEnv(gym.Wrapper):
         self.steps = 0
         self.allow_goal = allow_goal
 
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal")):
             raise ValueError("an agent may not place a goal during its dry run; reset without 'goal' or 'new_goal'")
         return self.env.reset(seed=seed, options=options)
 
-    def step(self, action: Any):
+    def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         self.steps += 1
         return self.env.step(action)
 
@@ -267,7 +270,7 @@ def run_dmtp(
         trials=int(trials),
         runs=int(runs),
         max_episode_steps=env.spec.max_episode_steps if env.spec is not None else max_episode_steps,
-        action_type=env.unwrapped.action_type,
+        action_type=maze_env(env).action_type,
         env_kwargs=dict(make_kwargs),
         agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
         versions=_versions(),
@@ -395,7 +398,7 @@ class _Experiment:
         end = rollout(self.counted, self.agent, observation, keep_going=self.budget_left)
         if not (end.terminated or end.truncated):
             return False
-        self.result.paths[-1].append(self.env.unwrapped.path.copy())
+        self.result.paths[-1].append(maze_env(self.env).path.copy())
         self.result.run_records.append(
             Run(
                 trial=trial,
@@ -528,7 +531,7 @@ def _check_agent(agent: Any) -> None:
         )
 
 
-def _progress(total: int, description: str, enabled: bool):
+def _progress(total: int, description: str, enabled: bool) -> Any:
     if not enabled:
         return None
     from tqdm.auto import tqdm

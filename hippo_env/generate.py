@@ -177,18 +177,19 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
         raise ValueError(f"name must be a non-empty string or None, got {name!r}")
 
     rng = np.random.default_rng(int(seed))
+    per_side = k if k is not None else 0  # cells or rooms per side: only "perfect" and "rooms" have them
     draw: Callable[[np.random.Generator, float], list[Polygon] | None] = {
         "walls": _draw_walls,
         "corridors": _draw_corridors,
-        "perfect": lambda rng, size: _draw_perfect(rng, size, k),
-        "rooms": lambda rng, size: _draw_rooms(rng, size, k),
+        "perfect": lambda rng, size: _draw_perfect(rng, size, per_side),
+        "rooms": lambda rng, size: _draw_rooms(rng, size, per_side),
         "arena": _draw_arena,
     }[kind]
     for _ in range(_MAX_ATTEMPTS):
         obstacles = draw(rng, size)
         if obstacles is None:
             continue
-        spec = MazeSpec(name=name, size=(size, size), obstacles=obstacles)
+        spec = MazeSpec(name=name, size=(size, size), obstacles=tuple(obstacles))
         try:
             spec.check_connected(ROBOT_RADIUS, resolution=_CONNECTIVITY_RESOLUTION)
         except ValueError:
@@ -288,7 +289,7 @@ def _draw_wall(rng: np.random.Generator, half: float, scale: float) -> Polygon |
         # The end on the side lies exactly on it (no rounding error outside the arena).
         axis = 0 if side in (1, 3) else 1
         edge = -half * inward[axis]
-        polygon = tuple(tuple(edge if k in (0, 3) and i == axis else c for i, c in enumerate(p)) for k, p in enumerate(polygon))
+        polygon = tuple((_on_side(p, axis, edge) if k in (0, 3) else p) for k, p in enumerate(polygon))
         others = [s for s in range(4) if s != side]
     else:
         angle = math.radians(float(WALL_ANGLES[int(rng.integers(len(WALL_ANGLES)))]))
@@ -301,6 +302,11 @@ def _draw_wall(rng: np.random.Generator, half: float, scale: float) -> Polygon |
     if min(_side_distance(polygon, half, s) for s in others) < WALL_GAP:
         return None
     return counter_clockwise(polygon)
+
+
+def _on_side(point: tuple[float, float], axis: int, edge: float) -> tuple[float, float]:
+    """``point`` with its coordinate ``axis`` set to ``edge``: moved onto the side of the arena."""
+    return (edge, point[1]) if axis == 0 else (point[0], edge)
 
 
 def _side_distance(polygon: Polygon, half: float, side: int) -> float:
@@ -371,7 +377,12 @@ def _draw_rooms(rng: np.random.Generator, size: float, r: int) -> list[Polygon]:
 
 def _grid_edges(k: int) -> list[Edge]:
     """Every interior edge of a k x k grid of cells (column i, row j), as sorted pairs of neighbouring cells."""
-    return sorted({tuple(sorted((c, d))) for c in ((i, j) for i in range(k) for j in range(k)) for d in _neighbours(c, k)})
+    return sorted({_edge(c, d) for c in ((i, j) for i in range(k) for j in range(k)) for d in _neighbours(c, k)})
+
+
+def _edge(c: Cell, d: Cell) -> Edge:
+    """The edge between neighbouring cells ``c`` and ``d``, as the sorted pair."""
+    return (c, d) if c <= d else (d, c)
 
 
 def _neighbours(cell: Cell, k: int) -> list[Cell]:
@@ -392,7 +403,7 @@ def _spanning_tree(rng: np.random.Generator, k: int) -> set[Edge]:
             stack.pop()
             continue
         nxt = fresh[int(rng.integers(len(fresh)))]
-        tree.add(tuple(sorted((current, nxt))))
+        tree.add(_edge(current, nxt))
         visited.add(nxt)
         stack.append(nxt)
     return tree

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hippo_env.geometry import CHUNK, segment_distance, signed_area
+from hippo_env.geometry import CHUNK, Point, segment_distance, signed_area
 
 if TYPE_CHECKING:
     from hippo_env.maze import MazeSpec
@@ -50,7 +50,7 @@ class VisibilityGraph:
         seen = _visible_many(a, b, self.walls, self.radius - GRAZE).reshape(k, k)
         self.between = np.where(seen, np.linalg.norm(a - b, axis=1).reshape(k, k), np.inf)
 
-    def length(self, start: tuple[float, float] | np.ndarray, goal: tuple[float, float] | np.ndarray) -> float:
+    def length(self, start: Point, goal: Point) -> float:
         """The shortest path's length from ``start`` to ``goal`` (``inf`` if there is none)."""
         ends = np.asarray([start, goal], dtype=float)
         points = np.concatenate([ends, self.nodes])
@@ -178,14 +178,14 @@ class DistanceField:
                     heapq.heappush(queue, (dist + cost, rr, cc))
         return field
 
-    def cell(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def cell(self, positions: np.ndarray | Point) -> tuple[np.ndarray, np.ndarray]:
         """Row and column of the cell holding each of ``positions`` (``(k, 2)`` or one point), clipped to the grid."""
         xy = np.asarray(positions, float).reshape(-1, 2)
         rows, cols = self.distances.shape
         index = ((xy - self.corner) / self.spacing).astype(int)
         return np.clip(index[:, 1], 0, rows - 1), np.clip(index[:, 0], 0, cols - 1)
 
-    def at(self, positions: np.ndarray) -> np.ndarray:
+    def at(self, positions: np.ndarray | Point) -> np.ndarray:
         """Geodesic distance from each position to the goal: over the cell holding it and the 8 around,
         the least of a cell's distance plus the step to that cell (``inf`` when none is reachable)."""
         rows, cols = self.cell(positions)

@@ -21,6 +21,7 @@ from numba import njit
 CHUNK = 1 << 18
 
 Polygon = Sequence[Sequence[float]]  # vertices (x, y), either orientation, the first not repeated at the end
+Point = tuple[float, float] | np.ndarray  # a position (x, y) in metres
 
 
 def wrap_angle(angle: float) -> float:

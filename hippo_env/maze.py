@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -23,6 +24,7 @@ from numba import njit
 from hippo_env.geodesic import DistanceField, VisibilityGraph
 from hippo_env.geometry import (
     CHUNK,
+    Point,
     clear_of_segments,
     point_in_polygon,
     points_in_polygon,
@@ -179,12 +181,12 @@ class MazeSpec:
                 rows.append((a[0], a[1], b[0], b[1]))
         return np.asarray(rows, dtype=np.float64)
 
-    def inside_obstacle(self, point: tuple[float, float] | np.ndarray) -> bool:
+    def inside_obstacle(self, point: Point) -> bool:
         """Whether a point lies inside (or on the boundary of) any obstacle polygon."""
         x, y = float(point[0]), float(point[1])
         return any(point_in_polygon(x, y, poly) for poly in self.obstacles)
 
-    def clearance(self, point: tuple[float, float] | np.ndarray) -> float:
+    def clearance(self, point: Point) -> float:
         """Distance from a point to the nearest wall; negative inside an obstacle or outside the arena."""
         return float(self.clearances([point])[0])
 
@@ -198,7 +200,7 @@ class MazeSpec:
             outside |= points_in_polygon(xy, poly)
         return np.where(outside, -distance, distance)
 
-    def is_free(self, point: tuple[float, float] | np.ndarray, radius: float) -> bool:
+    def is_free(self, point: Point, radius: float) -> bool:
         """Whether a disc of ``radius`` centred at ``point`` fits without touching any wall."""
         return self.clearance(point) >= radius
 
@@ -210,7 +212,7 @@ class MazeSpec:
         self,
         rng: np.random.Generator,
         clearance: float,
-        away_from: tuple[float, float] | None = None,
+        away_from: Point | None = None,
         min_distance: float = 0.0,
         tries: int = 10_000,
     ) -> np.ndarray:
@@ -281,7 +283,7 @@ class MazeSpec:
             labels, n = relabel[labels], len(keep)
         return labels, n
 
-    def geodesic(self, start: tuple[float, float], goal: tuple[float, float], radius: float) -> float:
+    def geodesic(self, start: Point, goal: Point, radius: float) -> float:
         """Shortest path length for a disc of ``radius`` from ``start`` to ``goal`` around the obstacles.
 
         The obstacles are inflated by ``radius``; the path is found on a
@@ -328,7 +330,7 @@ def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str)
         raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
 
 
-def _blocks(xs: np.ndarray, ys: np.ndarray, first_row: int):
+def _blocks(xs: np.ndarray, ys: np.ndarray, first_row: int) -> Iterator[tuple[slice, np.ndarray]]:
     """The grid points (xs x ys) in blocks of whole rows, at most ``CHUNK`` points each: (row slice, (k, 2) points)."""
     if len(xs) == 0 or len(ys) == 0:
         return

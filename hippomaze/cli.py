@@ -12,6 +12,7 @@ import json
 import os
 import sys
 import traceback
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -203,7 +204,7 @@ def prepare_out_dir(out: Path, overwrite: bool) -> Path:
     return out
 
 
-def _collect_maps(maps: dict[str, Any]):
+def _collect_maps(maps: dict[str, Any]) -> Callable[[int, int, Any, Any], None]:
     """After trial 1's first run, sample the reward map; after its last, the place fields along its paths.
 
     Only for agents that offer ``reward_map`` / ``place_field_map`` (the hippocampal agent does).

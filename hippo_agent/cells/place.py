@@ -53,6 +53,8 @@ class PlaceCells:
         eta_pp: eq. 7 rate.
     """
 
+    W_bp: np.ndarray  # the BVC -> place weights, BVC-first (set through :attr:`W_pb`)
+
     def __init__(
         self,
         n: int,

@@ -164,7 +164,7 @@ def summarise_fields(cells: list[FieldCell], n_cells: int, arena_area: float) ->
 
 def random_examples(cells: list[FieldCell], count: int, rng: np.random.Generator) -> list[int]:
     """``count`` cells drawn at random among those with a field: examples not picked for shape."""
-    chosen = rng.choice(len(cells), size=min(count, len(cells)), replace=False) if cells else []
+    chosen: np.ndarray | list[int] = rng.choice(len(cells), size=min(count, len(cells)), replace=False) if cells else []
     return sorted(cells[i].cell for i in chosen)
 
 
