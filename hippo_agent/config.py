@@ -474,18 +474,11 @@ class AgentConfig:
         }
 
     def map_kwargs(self) -> dict[str, Any]:
-        """Keyword arguments of :class:`~hippo_agent.explore.ExplorationMap`."""
-        return {
-            "extent": self.map_extent,
-            "cell": self.map_cell,
-            "visit_radius": self.visit_radius,
-            "search_radius": self.search_radius,
-            "lookahead": self.explore_lookahead,
-            "free_range": self.map_free_range,
-            "hit_range": self.map_hit_range,
-            "ray_stride_deg": self.map_ray_stride_deg,
-            "agreement_stride_deg": self.map_agreement_stride_deg,
-        }
+        """Keyword arguments of :class:`~hippo_agent.explore.ExplorationMap`: the ``map_*`` fields
+        (without the prefix), the two marking radii and the lookahead."""
+        prefixed = ("extent", "cell", "free_range", "hit_range", "ray_stride_deg", "agreement_stride_deg")
+        kwargs = {name: getattr(self, f"map_{name}") for name in prefixed}
+        return {**kwargs, "visit_radius": self.visit_radius, "search_radius": self.search_radius, "lookahead": self.explore_lookahead}
 
     def replace(self, **changes: Any) -> AgentConfig:
         """A copy with some fields changed (validated like the original)."""
