@@ -33,9 +33,11 @@ test: $(STAMP)
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
 
+# ruff on everything; mypy on the packages (and baselines/), its settings in pyproject.toml.
 lint: $(STAMP)
 	$(VENV)/bin/ruff check hippo_env hippo_agent hippomaze baselines benchmarks tests
 	$(VENV)/bin/ruff format --check hippo_env hippo_agent hippomaze baselines benchmarks tests
+	$(VENV)/bin/mypy
 
 docs: $(DOCS_STAMP)
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict

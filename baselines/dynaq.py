@@ -46,7 +46,7 @@ class DynaQAgent:
         **overrides: Any,
     ) -> None:
         if not isinstance(action_space, gym.spaces.Discrete):
-            raise ValueError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")
+            raise TypeError(f"DynaQAgent needs a Discrete action space (action_type='discrete'), got {action_space}")
         self.params = make_params("dynaq", **overrides) if params is None else make_params("dynaq", **{**params_dict(params), **overrides})
         self.n_actions = int(action_space.n)
         self.rng = np.random.default_rng(seed)

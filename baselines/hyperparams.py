@@ -54,7 +54,7 @@ that, by the success rate of the last 50 runs. The defaults below are the winner
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field, fields, replace
-from typing import Any
+from typing import Any, Literal, overload
 
 from hippo_env.files import unknown_fields
 
@@ -90,7 +90,7 @@ class DQNParams(_OnlineParams):
         exploration_final_eps: Epsilon after the decay (zoo: 0.07).
         max_grad_norm: Gradient clipping (SB3 default: 10).
         net_arch: Hidden layer sizes of the Q-network (SB3 default [64, 64]; the zoo's [256, 256] is
-            in the sweep: it costs 2.6x the compute per gradient step on this machine).
+            in the sweep; it costs several times the compute per gradient step).
         n_bins: Sectors the 720-ray scan is mean-pooled into (720 = no pooling).
         allocentric: Rotate the scan into the world frame with the compass heading.
         n_timesteps: Steps over which the schedules run (the benchmark sets it to its budget).
@@ -188,6 +188,14 @@ class DynaQParams:
 PARAMS = {"dqn": DQNParams, "ppo": PPOParams, "dynaq": DynaQParams}
 
 
+@overload
+def make_params(agent: Literal["dqn"], **overrides: Any) -> DQNParams: ...
+@overload
+def make_params(agent: Literal["ppo"], **overrides: Any) -> PPOParams: ...
+@overload
+def make_params(agent: Literal["dynaq"], **overrides: Any) -> DynaQParams: ...
+@overload
+def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQParams: ...
 def make_params(agent: str, **overrides: Any) -> DQNParams | PPOParams | DynaQParams:
     """The default parameters of ``agent`` (``dqn``, ``ppo``, ``dynaq``) with ``overrides`` applied.
 

@@ -6,20 +6,26 @@ SB3's ``learn()`` owns the environment loop; the DMTP runner owns it here. The t
 reimplement the *collection* side of ``learn()`` and call SB3 for everything else:
 
 - :class:`DQNAgent`: each ``observe`` adds the transition to SB3's ``ReplayBuffer`` (with the
-  ``TimeLimit.truncated`` flag, so a time-out is not a terminal state), advances SB3's progress
-  counter and calls ``DQN._on_step()`` (target-network updates, the epsilon schedule); every
-  ``train_freq`` steps after ``learning_starts`` it calls ``DQN.train(gradient_steps, batch_size)``,
-  exactly as ``OffPolicyAlgorithm.learn`` / ``collect_rollouts`` do for one environment.
+  ``TimeLimit.truncated`` flag, so a time-out is not a terminal state), copies the Q-network into
+  the target network every ``target_update_interval`` steps (SB3's public ``polyak_update``) and
+  sets epsilon from DQN's ``exploration_schedule``, as ``DQN`` does after each step of its own
+  loop; every ``train_freq`` steps after ``learning_starts`` it calls
+  ``DQN.train(gradient_steps, batch_size)``, exactly as ``OffPolicyAlgorithm.learn`` /
+  ``collect_rollouts`` do for one environment.
 - :class:`PPOAgent`: each ``act`` evaluates SB3's ``ActorCriticPolicy`` (action, value, log-prob),
   each ``observe`` adds to SB3's ``RolloutBuffer`` (bootstrapping a time-out with the value of the
   last observation, as ``OnPolicyAlgorithm.collect_rollouts`` does); after ``n_steps`` it calls
   ``compute_returns_and_advantage`` and ``PPO.train()``.
 
+Only SB3's public API is used: the progress through a schedule, which SB3 keeps privately and
+updates only inside ``learn()``, is computed here; the learning rate and PPO's clip range are
+constants (floats in :mod:`hippomaze.baselines.hyperparams`), so ``train()`` does not read it.
+
 Acting goes through a NumPy copy of the torch network (:class:`_NumpyMLP`, refreshed after every
 training phase): one observation at a time, torch's per-call overhead costs more than the
 environment step, and the copy computes the same function.
 
-This was chosen over running ``learn()`` in a thread against a proxy environment: no threads, no
+Why not ``learn()`` in a thread against a proxy environment: this way there are no threads, no
 hand-over protocol, nothing to deadlock when a run is cut by the step budget, and the agent never
 needs to know when the runner will stop.
 
@@ -70,9 +76,13 @@ class ScanFeatures:
     """
 
     def __init__(self, observation_space: gym.spaces.Space, n_bins: int = 90, allocentric: bool = True) -> None:
-        if not (isinstance(observation_space, gym.spaces.Dict) and {"ranges", "heading"} <= set(observation_space.spaces)):
+        if not isinstance(observation_space, gym.spaces.Dict):
+            raise TypeError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
+        if not {"ranges", "heading"} <= set(observation_space.spaces):
             raise ValueError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
         ranges = observation_space["ranges"]
+        if not isinstance(ranges, gym.spaces.Box):
+            raise TypeError(f"the baselines need the HippoMaze observation Dict(ranges=Box, heading=Box), got {observation_space}")
         self.n_rays = int(ranges.shape[0])
         if n_bins < 1 or self.n_rays % n_bins:
             raise ValueError(f"n_bins={n_bins} must divide the number of rays ({self.n_rays}); e.g. 90, 180 or {self.n_rays}")
@@ -100,10 +110,10 @@ class _SpacesEnv(gym.Env):
         self.observation_space = observation_space
         self.action_space = action_space
 
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         raise RuntimeError("the baselines are driven by the DMTP runner; SB3's own environment loop is not used")
 
-    def step(self, action: Any):
+    def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
         raise RuntimeError("the baselines are driven by the DMTP runner; SB3's own environment loop is not used")
 
 
@@ -198,9 +208,19 @@ def _quiet_logger():
     return Logger(folder=None, output_formats=[])
 
 
-def _check_discrete(action_space: gym.spaces.Space, name: str) -> None:
+def _update_target_network(model: Any) -> None:
+    """Move DQN's target network toward its Q-network by ``tau`` (1 by default: a copy), batch-norm
+    statistics copied outright, as ``DQN`` does every ``target_update_interval`` steps."""
+    from stable_baselines3.common.utils import polyak_update
+
+    polyak_update(model.q_net.parameters(), model.q_net_target.parameters(), model.tau)
+    polyak_update(model.batch_norm_stats, model.batch_norm_stats_target, 1.0)
+
+
+def _check_discrete(action_space: gym.spaces.Space, name: str) -> gym.spaces.Discrete:
     if not isinstance(action_space, gym.spaces.Discrete):
-        raise ValueError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
+        raise TypeError(f"{name} needs a Discrete action space (the env's action_type='discrete'), got {action_space}")
+    return action_space
 
 
 class _SB3Agent:
@@ -215,12 +235,12 @@ class _SB3Agent:
         torch, _ = _import_sb3()
         torch.set_num_threads(1)
         self.torch = torch
-        _check_discrete(action_space, type(self).__name__)
+        discrete = _check_discrete(action_space, type(self).__name__)
         self.params = params
         self.seed = int(np.random.SeedSequence(seed).generate_state(1)[0]) if seed is None else int(seed)
         self.features = ScanFeatures(observation_space, params.n_bins, params.allocentric)
         self.action_space = action_space
-        self.n_actions = int(action_space.n)
+        self.n_actions = int(discrete.n)
         self.rng = np.random.default_rng(self.seed)
         self.random_state = _OwnRandomState(torch, self.seed)
         self.num_timesteps = 0  # every transition observed
@@ -299,6 +319,8 @@ class DQNAgent(_SB3Agent):
         self.model.set_logger(_quiet_logger())
         self.model.policy.set_training_mode(False)
         self.q_net = _NumpyMLP(self.model.q_net.q_net)  # the features extractor is a Flatten
+        assert self.model.replay_buffer is not None  # DQN makes it on construction
+        self.replay_buffer = self.model.replay_buffer
         self.exploration_rate = params.exploration_initial_eps
         self._action = 0
 
@@ -319,15 +341,17 @@ class DQNAgent(_SB3Agent):
         p = self.params
         next_x = self.features(observation)
         timeout = bool(truncated and not terminated)
-        self.model.replay_buffer.add(
+        assert self._x is not None, "observe() before act()"
+        self.replay_buffer.add(
             self._x[None], next_x[None], np.array([[int(action)]]), np.array([float(reward)], np.float32),
             np.array([bool(terminated or truncated)]), [{"TimeLimit.truncated": timeout}],
         )  # fmt: skip
         self._x = next_x
         self.num_timesteps += 1
         self.model.num_timesteps = self.num_timesteps
-        self.model._current_progress_remaining = self._progress_remaining()
-        self.model._on_step()  # target network every target_update_interval steps; epsilon from the schedule
+        if self.num_timesteps % max(self.model.target_update_interval, 1) == 0:
+            _update_target_network(self.model)
+        self.model.exploration_rate = self.model.exploration_schedule(self._progress_remaining())
         self.exploration_rate = float(self.model.exploration_rate)
         since = self.num_timesteps - self.schedule_origin
         if since % p.train_freq == 0 and since > p.learning_starts:
@@ -338,10 +362,9 @@ class DQNAgent(_SB3Agent):
             self.q_net.refresh()
 
     def _on_new_goal(self) -> None:
-        self.model.replay_buffer.reset()
+        self.replay_buffer.reset()
         self.schedule_origin = self.num_timesteps
         self.schedule_length = int(self.params.switch_timesteps)
-        self.model._current_progress_remaining = 1.0
         self.exploration_rate = self.params.exploration_initial_eps
 
 
@@ -399,7 +422,7 @@ class PPOAgent(_SB3Agent):
         from stable_baselines3.common.distributions import CategoricalDistribution
 
         if not isinstance(self.policy.action_dist, CategoricalDistribution):
-            raise ValueError("PPOAgent supports the categorical policy of a Discrete action space only")
+            raise TypeError("PPOAgent supports the categorical policy of a Discrete action space only")
         extractor = self.policy.mlp_extractor
         self.pi_net = _NumpyMLP(extractor.policy_net, self.policy.action_net)
         self.vf_net = _NumpyMLP(extractor.value_net, self.policy.value_net)
@@ -443,7 +466,6 @@ class PPOAgent(_SB3Agent):
         if self.buffer.full:
             last_value = self.torch.as_tensor(self.vf_net(self.features(observation)).reshape(1, 1), dtype=self.torch.float32)
             self.buffer.compute_returns_and_advantage(last_values=last_value, dones=np.array([done]))
-            self.model._current_progress_remaining = self._progress_remaining()
             with self.random_state:
                 self.model.train()
             self.policy.set_training_mode(False)

@@ -6,5 +6,6 @@
 
 from hippo_agent.agent import HippocampalAgent
 from hippo_agent.config import AgentConfig
+from hippo_env import __version__ as __version__
 
 __all__ = ["AgentConfig", "HippocampalAgent"]

@@ -50,17 +50,11 @@ from hippo_agent import analysis, persistence
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PathIntegrator, PlaceCells, RewardCells, _kernels
 from hippo_agent.config import AgentConfig
 from hippo_agent.explore import ExplorationMap
+from hippo_env.checks import check_int
 from hippo_env.dmtp import rollout
 from hippo_env.geometry import wrap_angle
 
 __all__ = ["HippocampalAgent"]
-
-PI_MIN_MASS = 1.0  # a centre votes once its cell has fired with a summed rate of 1 there
-BUMP_DISTANCE = 0.3  # m ahead of the robot's centre: where a bump marks a wall in the exploration map
-RECRUIT_EVERY = 50  # steps between checks of whether the place cells run short (dry run)
-RECRUIT_MIN = 250  # place cells recruited at least at a time
-PLAN_PATIENCE = 3  # steps in a row with nowhere unvisited to go before the sweep counts as done
-FIT_RATE = 0.1  # per step: the running mean of the scan's fit to the map spans about 10 steps
 
 
 def _describe_space(space: Any) -> str:
@@ -95,11 +89,9 @@ class HippocampalAgent:
         if config is None:
             config = AgentConfig()
         if not isinstance(config, AgentConfig):
-            raise ValueError(f"config must be an AgentConfig, got {type(config).__name__}")
+            raise TypeError(f"config must be an AgentConfig, got {type(config).__name__}")
         if seed is not None:
-            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-                raise ValueError(f"seed={seed!r} is invalid; allowed: None or an integer >= 0")
-            seed = int(seed)
+            seed = check_int(seed, "seed", 0, "None or an integer >= 0")
         self.config = config
         self.seed = seed
         self.n_rays, self.max_range, self.has_odometry = self._check_observation_space(observation_space)
@@ -119,11 +111,7 @@ class HippocampalAgent:
         self.place = PlaceCells(c.n_place, self.bvc.n, c.n_hd, self.rng, **c.place_kwargs())
         self.reward = RewardCells(c.n_place)
         self.pi = PathIntegrator(c.pi_particles, self.rng, **c.path_integrator_kwargs())
-        self.map = (
-            ExplorationMap(c.map_extent, c.map_cell, c.visit_radius, c.search_radius, c.explore_lookahead)
-            if c.exploration == "directed"
-            else None
-        )
+        self.map = ExplorationMap(**c.map_kwargs()) if c.exploration == "directed" else None
         self._directions = self.hd.preferred  # theta^h: the preplay / exploitation directions
         self._dir_cos = np.cos(self._directions)
         self._dir_sin = np.sin(self._directions)
@@ -158,15 +146,22 @@ class HippocampalAgent:
         import gymnasium as gym
 
         allowed = "a gymnasium Dict(ranges=Box(0, max_range, (n_rays,)), heading=Box(-1, 1, (2,))), optionally with odometry=Box(..., (2,))"
-        keys = set(space.spaces) if isinstance(space, gym.spaces.Dict) else set()
+        if not isinstance(space, gym.spaces.Dict):
+            raise TypeError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
+        keys = set(space.spaces)
         if keys not in ({"ranges", "heading"}, {"ranges", "heading", "odometry"}):
             raise ValueError(f"observation space {_describe_space(space)} is unsupported; allowed: {allowed}")
-        ranges, heading = space["ranges"], space["heading"]
-        if not isinstance(ranges, gym.spaces.Box) or len(ranges.shape) != 1 or ranges.shape[0] < 8:
+        boxes: dict[str, gym.spaces.Box] = {}
+        for key, box in space.spaces.items():
+            if not isinstance(box, gym.spaces.Box):
+                raise TypeError(f"observation space {key!r} {_describe_space(box)} is unsupported; allowed: a Box")
+            boxes[key] = box
+        ranges, heading, odometry = boxes["ranges"], boxes["heading"], boxes.get("odometry")
+        if len(ranges.shape) != 1 or ranges.shape[0] < 8:
             raise ValueError(
                 f"observation space 'ranges' {_describe_space(ranges)} is unsupported; allowed: a 1-D Box with at least 8 rays"
             )
-        if not isinstance(heading, gym.spaces.Box) or heading.shape != (2,):
+        if heading.shape != (2,):
             raise ValueError(
                 f"observation space 'heading' {_describe_space(heading)} is unsupported; "
                 "allowed: Box(-1, 1, (2,)) holding (cos, sin) of the heading"
@@ -174,8 +169,7 @@ class HippocampalAgent:
         max_range = float(np.max(ranges.high))
         if not (math.isfinite(max_range) and max_range > 0):
             raise ValueError(f"observation space 'ranges' has upper bound {max_range}; allowed: a finite max range > 0")
-        odometry = space.spaces.get("odometry")
-        if odometry is not None and (not isinstance(odometry, gym.spaces.Box) or odometry.shape != (2,)):
+        if odometry is not None and odometry.shape != (2,):
             raise ValueError(
                 f"observation space 'odometry' {_describe_space(odometry)} is unsupported; "
                 "allowed: Box(low, high, (2,)) holding the (forward, left) displacement in metres"
@@ -198,6 +192,8 @@ class HippocampalAgent:
             lo, hi = float(space.low[0]), float(space.high[0])
             if lo <= -math.pi + 1e-3 and hi >= math.pi - 1e-3:
                 return "heading", 1
+        if not isinstance(space, gym.spaces.Box):
+            raise TypeError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
         raise ValueError(f"action space {_describe_space(space)} is unsupported; allowed: {allowed}")
 
     # ================================================================== protocol
@@ -234,13 +230,6 @@ class HippocampalAgent:
             self.phase = "trial"
             self.started = False
 
-    def prepare(self, env: Any) -> None:
-        """Deprecated: the former name of :meth:`dry_run`."""
-        import warnings
-
-        warnings.warn("HippocampalAgent.prepare is deprecated: call dry_run", DeprecationWarning, stacklevel=2)
-        self.dry_run(env)
-
     def start_trial(self, trial: int) -> None:
         """A new DMTP trial: the goal has moved, so a new reward cell takes over."""
         self.trial = int(trial)
@@ -260,7 +249,7 @@ class HippocampalAgent:
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
             self._candidates = None
-            self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood, proposals=self._map_proposals)
+            self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals)
             if self.pi.anchored:
                 self.place.settle(b, self._pi_input(), self.config.settle_steps)
         else:
@@ -337,12 +326,12 @@ class HippocampalAgent:
             if self.total_steps % c.map_every == 0:
                 self.map.observe(self.pi.estimate, heading, ranges, self.max_range, learn=dry or c.map_in_runs)
             if dry:
-                if self.total_steps % RECRUIT_EVERY == 0:
+                if self.total_steps % c.recruit_every == 0:
                     self._recruit()
                 active = np.flatnonzero(self.place.v > 0.0)
                 self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, self.place.v[active])
             if collision and (dry or c.map_in_runs):
-                self.map.mark_bump(self.pi.estimate, heading, BUMP_DISTANCE)
+                self.map.mark_bump(self.pi.estimate, heading, c.map_bump_distance)
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
             self.intended_heading = float(self.rng.uniform(-math.pi, math.pi))
@@ -376,7 +365,7 @@ class HippocampalAgent:
         """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
         run, with the exploration map, :meth:`_map_likelihood`); the path-integration drive if
         anchored, else ``None`` (the boundary code alone drives the place cells)."""
-        self.pi.correct(*self.place.sensory_vote(PI_MIN_MASS), likelihood=self._map_likelihood, proposals=self._map_proposals)
+        self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals)
         self._check_localisation()
         return self._pi_input() if self.pi.anchored else None
 
@@ -415,7 +404,7 @@ class HippocampalAgent:
             return
         ranges, heading = self._scan
         here = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0]
-        rate = min(1.0, FIT_RATE * every)
+        rate = min(1.0, self.config.map_fit_rate * every)
         self.fit = (1.0 - rate) * self.fit + rate * here
         if self.fit < self.config.lost_agreement:
             self.pi.lose()
@@ -470,10 +459,11 @@ class HippocampalAgent:
         """Where the map says to go next, or ``None`` for a random step.
 
         Dry run: the sweep heads for the nearest ground not yet visited; once none is reachable
-        (for ``PLAN_PATIENCE`` steps in a row) transits to random visited places follow, for
+        (for ``sweep_patience`` steps in a row) transits to random visited places follow, for
         ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
         ground not searched in this run.
         """
+        assert self.map is not None  # directed exploration only
         here = self.pi.estimate
         if self.phase != "dry":
             return self.map.heading_to_unvisited(here, this_run=True)
@@ -484,7 +474,7 @@ class HippocampalAgent:
                 self.plan_failures = 0
                 return heading
             self.plan_failures += 1
-            if self.plan_failures < PLAN_PATIENCE:
+            if self.plan_failures < self.config.sweep_patience:
                 return None
             self.dry_stage = "transit"
             self.transit_left = math.ceil(self.config.transit_factor * self.sweep_steps)
@@ -501,6 +491,7 @@ class HippocampalAgent:
     def _transit_destination(self, here: np.ndarray) -> int:
         """A random visited place at least ``transit_min_distance`` away along the known ground
         (a map cell's flat index), or -1 if there is none."""
+        assert self.map is not None  # directed exploration only
         cells, steps = self.map.reachable_visited(here)
         far = cells[steps * self.config.map_cell >= self.config.transit_min_distance]
         if far.size == 0:
@@ -509,11 +500,12 @@ class HippocampalAgent:
 
     def _recruit(self) -> None:
         """Recruit place cells up to ``place_cells_per_m2`` of the free ground the map knows
-        (at least ``RECRUIT_MIN`` at a time, at most ``max_place_cells`` in all)."""
+        (at least ``recruit_min`` at a time, at most ``max_place_cells`` in all)."""
+        assert self.map is not None  # directed exploration only
         c = self.config
         wanted = min(math.ceil(c.place_cells_per_m2 * self.map.explored_area()), c.max_place_cells)
         if wanted > self.place.n:
-            self.grow_place_cells(min(max(wanted - self.place.n, RECRUIT_MIN), c.max_place_cells - self.place.n))
+            self.grow_place_cells(min(max(wanted - self.place.n, c.recruit_min), c.max_place_cells - self.place.n))
 
     def grow_place_cells(self, extra: int) -> None:
         """Add ``extra`` place cells (:meth:`PlaceCells.grow`) and their reward weights."""
@@ -533,6 +525,7 @@ class HippocampalAgent:
         lanes, not along direct routes, and links laid by walking direct routes (transits) are
         what made later runs direct, at the cost of environment steps.
         """
+        assert self.map is not None  # directed exploration only
         c = self.config
         budget = round(c.rest_factor * self.sweep_steps)
         if budget <= 0 or not self.codes:

@@ -31,8 +31,8 @@ __all__ = ["AgentConfig"]
 class AgentConfig:
     """Parameters of :class:`hippo_agent.HippocampalAgent`.
 
-    Construct with keyword arguments; anything left out keeps its default. Invalid values raise
-    ``ValueError`` naming the field and what is allowed. ``AgentConfig.from_dict(cfg.to_dict())``
+    Construct with keyword arguments; anything left out keeps its default. A value of the wrong
+    type raises ``TypeError``, an invalid value ``ValueError``, naming the field and what is allowed. ``AgentConfig.from_dict(cfg.to_dict())``
     round-trips exactly.
     """
 
@@ -135,7 +135,7 @@ class AgentConfig:
     iteration: a short tau_r keeps the value steep around the goal, where the near misses happen;
     a long one carries value further along winding paths. Tuned with the directed dry run (open,
     maze2, maze4 and generated perfect and rooms mazes): 2.0 did better than 1.0 overall, most in
-    the perfect and rooms mazes (the random-walk dry run had preferred 1.0)."""
+    the perfect and rooms mazes."""
 
     # ---------------------------------------------------------------- exploitation (eqs. 8-11)
     lambda_: float = 0.05
@@ -205,9 +205,8 @@ class AgentConfig:
     place_cells_per_m2: float = 10.0
     """Directed dry run: place cells are recruited so that there are at least this many per
     square metre of free ground the exploration map knows (up to ``max_place_cells``): a larger
-    arena gets more cells. 10 keeps the 1000 cells of a 10 m arena (96 m^2 free), where they
-    were tuned, and gives a 20 m arena about 3,800 (1000 cells saturated there: almost every
-    one had fired)."""
+    arena gets more cells. 10 keeps the 1000 cells of a 10 m arena (96 m^2 free), where the model
+    is tuned; in a 20 m arena 1000 cells would almost all be in use."""
     max_place_cells: int = 16000
     """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
     pi_min_anchor_steps: int = 20
@@ -247,6 +246,31 @@ class AgentConfig:
     write that place's walls into the wrong part of the map."""
     transit_min_distance: float = 3.0
     """A transit's destination lies at least this far (m, along the path) from where it starts."""
+    sweep_patience: int = 3
+    """The directed dry run's sweep counts as done after this many steps in a row with no
+    unvisited ground reachable (a single step may find none while the map is being filled in)."""
+    recruit_every: int = 50
+    """Directed dry run: steps between checks of whether the place cells fall short of
+    ``place_cells_per_m2``."""
+    recruit_min: int = 250
+    """Place cells recruited at least at a time, so that recruitment happens in a few large steps."""
+    map_free_range: float = 4.0
+    """A ray marks the exploration map's cells free up to this distance (m): farther cells are seen
+    at too coarse an angle to be marked reliably."""
+    map_hit_range: float = 6.0
+    """A ray that ends nearer than this (m) marks a wall in the exploration map, and enters the
+    scan's fit to the map."""
+    map_ray_stride_deg: float = 5.0
+    """One ray of the scan every this many degrees enters the exploration map."""
+    map_agreement_stride_deg: float = 10.0
+    """One ray of the scan every this many degrees is compared with the map (``map_beta``,
+    ``lost_agreement``)."""
+    map_bump_distance: float = 0.3
+    """A bump marks a wall in the exploration map this far (m) ahead of the robot's centre: the
+    robot's radius (0.17 m) and a little more, in the cell it bumped into."""
+    map_fit_rate: float = 0.1
+    """Rate per step of the running mean of the scan's fit to the map that ``lost_agreement`` is
+    compared with: it spans about 10 steps."""
 
     # ---------------------------------------------------------------- schedule
     dry_run_steps: int = 10000
@@ -297,23 +321,41 @@ class AgentConfig:
     the path-integration input and all plasticity are off."""
     pi_redraw_fraction: float = 0.2
     """While not anchored, this share of the samples is drawn afresh around the voted centres each step."""
+    pi_min_mass: float = 1.0
+    """A cell's centre enters the sensory vote once the cell has fired there with a summed rate of
+    at least this: a centre learnt from a single weak firing is not yet a place."""
+    pi_vote_floor: float = 1e-3
+    """Likelihood of a sample far from every voted centre, so that no sample's weight becomes
+    exactly 0 and the belief can recover from a wrong vote."""
+    pi_min_mapped: float = 0.8
+    """Once anchored, a vote is ignored where the cells with a centre hold less than this share of
+    the boundary code's activity: at the edge of the map only the cells behind the robot have
+    centres, and their vote would pull the estimate back."""
+    pi_resample_ess: float = 0.5
+    """The samples are resampled when their effective number falls below this share of
+    ``pi_particles`` (the usual particle-filter threshold)."""
     pi_vote_by_spread: bool = True
     """Each cell learns how far from its centre the boundary code alone fires it (its spread), and
     votes for positions with a normalised Gaussian that wide: cells that also fire at distant
-    look-alike places vote broadly and weakly. Why: without it, a run's estimate was more often
-    anchored at a look-alike place (``python -m benchmarks.diagnose --maze maze4``, its misplaced
-    runs); tuned on seeds 2 and 3 in open, maze1, maze2 and maze4."""
+    look-alike places vote broadly and weakly. Why: without it a run's estimate is more often
+    anchored at a look-alike place (tuned in open, maze1, maze2 and maze4; ``docs/parameters.md``)."""
 
     # ------------------------------------------------------------------------------------------
     @classmethod
     def paper(cls, **changes: Any) -> AgentConfig:
         """The model as the paper describes it: no path integration (the compass and the
-        rangefinder only), no place-place learning in the dry run; the rest as the defaults."""
-        return cls(**{"path_integration": False, "learn_pp_in_dry_run": False, "exploration": "random", "dry_run_steps": 5000, **changes})
+        rangefinder only), no place-place learning in the dry run, a 5,000-step random dry run;
+        the rest as the defaults, but for ``tau_r`` 1, which its results in ``benchmarks/results``
+        were measured with (the default's 2 was tuned for the directed dry run)."""
+        paper = {"path_integration": False, "learn_pp_in_dry_run": False, "exploration": "random", "dry_run_steps": 5000, "tau_r": 1.0}
+        return cls(**{**paper, **changes})
 
     def __post_init__(self) -> None:
         def bad(name: str, allowed: str) -> ValueError:
             return ValueError(f"AgentConfig.{name}={getattr(self, name)!r} is invalid; allowed: {allowed}")
+
+        def wrong_type(name: str, allowed: str) -> TypeError:
+            return TypeError(f"AgentConfig.{name}={getattr(self, name)!r} is of the wrong type; allowed: {allowed}")
 
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
@@ -321,13 +363,13 @@ class AgentConfig:
                 continue
             if f.type in ("bool",):
                 if not isinstance(value, bool):
-                    raise bad(f.name, "True or False")
+                    raise wrong_type(f.name, "True or False")
             elif f.type == "int":
                 if isinstance(value, bool) or not isinstance(value, int):
-                    raise bad(f.name, "an integer")
+                    raise wrong_type(f.name, "an integer")
             elif f.type in ("float", "float | None"):
                 if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    raise bad(f.name, "a finite number")
+                    raise wrong_type(f.name, "a finite number")
                 if not math.isfinite(float(value)):
                     raise bad(f.name, "a finite number (not NaN or inf)")
 
@@ -397,6 +439,13 @@ class AgentConfig:
             if not -1 <= getattr(self, name) <= 1:
                 raise bad(name, "a value in [-1, 1]")
         non_negative("place_cells_per_m2")
+        for n in ("sweep_patience", "recruit_every", "recruit_min"):
+            if getattr(self, n) < 1:
+                raise bad(n, "an integer >= 1")
+        positive("map_free_range", "map_hit_range", "map_ray_stride_deg", "map_agreement_stride_deg", "map_bump_distance")
+        unit_interval("map_fit_rate", "pi_vote_floor")
+        non_negative("pi_min_mass")
+        unit_interval("pi_min_mapped", "pi_resample_ess", open_low=False)
 
         if self.discrete_rounding not in ("stochastic", "nearest"):
             raise bad("discrete_rounding", "'stochastic' or 'nearest'")
@@ -408,9 +457,11 @@ class AgentConfig:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> AgentConfig:
-        """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``."""
+        """Build a config from :meth:`to_dict` output; unknown keys raise ``ValueError``, a value of the
+        wrong type ``TypeError``. Fields left out keep their defaults (a config saved before a field
+        was added loads with it)."""
         if not isinstance(data, dict):
-            raise ValueError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
+            raise TypeError(f"AgentConfig.from_dict needs a dict, got {type(data).__name__}")
         unknown = unknown_fields(cls, data)
         if unknown:
             raise ValueError(f"unknown AgentConfig field(s) {unknown}; known fields: {sorted(f.name for f in dataclasses.fields(cls))}")
@@ -447,12 +498,22 @@ class AgentConfig:
             "anchor_radius": self.pi_anchor_radius,
             "anchor_weight": self.pi_anchor_weight,
             "redraw_fraction": self.pi_redraw_fraction,
+            "lag": (1.0 - self.k) / self.k,  # eq. 3's Euler update lags the input by this many steps
+            "min_anchor_steps": self.pi_min_anchor_steps,
+            "vote_floor": self.pi_vote_floor,
+            "min_mapped": self.pi_min_mapped,
+            "resample_ess": self.pi_resample_ess,
             "lost_vote_floor": self.pi_lost_vote_floor,
             "proposal_share": self.pi_proposal_share,
             "collapse_on_anchor": self.pi_collapse_on_anchor,
-            "lag": (1.0 - self.k) / self.k,
-            "min_anchor_steps": self.pi_min_anchor_steps,  # eq. 3's Euler update lags the input by this many steps
         }
+
+    def map_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~hippo_agent.explore.ExplorationMap`: the ``map_*`` fields
+        (without the prefix), the two marking radii and the lookahead."""
+        prefixed = ("extent", "cell", "free_range", "hit_range", "ray_stride_deg", "agreement_stride_deg")
+        kwargs = {name: getattr(self, f"map_{name}") for name in prefixed}
+        return {**kwargs, "visit_radius": self.visit_radius, "search_radius": self.search_radius, "lookahead": self.explore_lookahead}
 
     def replace(self, **changes: Any) -> AgentConfig:
         """A copy with some fields changed (validated like the original)."""

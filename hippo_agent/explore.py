@@ -30,11 +30,6 @@ from numba import njit
 
 __all__ = ["ExplorationMap"]
 
-FREE_RANGE = 4.0  # m: a ray marks cells free up to here (far cells are seen at too coarse an angle)
-HIT_RANGE = 6.0  # m: a ray ending nearer than this marks a wall
-RAY_STRIDE_DEG = 5.0  # one ray of the scan every this many degrees enters the map
-AGREEMENT_STRIDE_DEG = 10.0  # one ray every this many degrees is compared with the map
-
 
 class ExplorationMap:
     """The occupancy and visit map in the path-integration frame, and the planner (module docstring).
@@ -45,14 +40,35 @@ class ExplorationMap:
         visit_radius: cells within this distance (m) of the robot count as visited.
         search_radius: cells within this distance (m) count as searched in the current run.
         lookahead: the planner heads for the point this far (m) along its path.
+        free_range: a ray marks cells free up to this distance (m).
+        hit_range: a ray ending nearer than this (m) marks a wall.
+        ray_stride_deg: one ray of a scan every this many degrees enters the map.
+        agreement_stride_deg: one ray every this many degrees is compared with the map (:meth:`scan_agreement`).
+    (The agent's values are :meth:`hippo_agent.AgentConfig.map_kwargs`.)
     """
 
-    def __init__(self, extent: float, cell: float, visit_radius: float, search_radius: float, lookahead: float) -> None:
+    def __init__(
+        self,
+        extent: float,
+        cell: float,
+        visit_radius: float,
+        search_radius: float,
+        lookahead: float,
+        *,
+        free_range: float,
+        hit_range: float,
+        ray_stride_deg: float,
+        agreement_stride_deg: float,
+    ) -> None:
         self.extent = float(extent)
         self.cell = float(cell)
         self.visit_radius = float(visit_radius)
         self.search_radius = float(search_radius)
         self.lookahead_cells = max(1, round(lookahead / cell))
+        self.free_range = float(free_range)
+        self.hit_range = float(hit_range)
+        self.ray_stride_deg = float(ray_stride_deg)
+        self.agreement_stride_deg = float(agreement_stride_deg)
         n = math.ceil(2 * self.extent / self.cell)
         self.n = n
         self.free = np.zeros((n, n), dtype=np.uint16)
@@ -72,11 +88,11 @@ class ExplorationMap:
         ``position`` (frame metres), and mark the cells around ``position`` visited and searched.
         With ``learn=False`` only the marks are made: the walls and free ground stay as they are."""
         n_rays = ranges.size
-        stride = max(1, round(n_rays * RAY_STRIDE_DEG / 360.0))
+        stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
         if learn:
             _enter_scan(
                 self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
-                float(max_range), self.extent, self.cell, FREE_RANGE, HIT_RANGE,
+                float(max_range), self.extent, self.cell, self.free_range, self.hit_range,
             )  # fmt: skip
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         _mark_disk(self.searched, float(position[0]), float(position[1]), self.search_radius, self.extent, self.cell)
@@ -89,16 +105,16 @@ class ExplorationMap:
 
     def scan_agreement(self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
-        map, in [-1, 1]: per ray that ended on a boundary within ``HIT_RANGE``, -1 if it passed
+        map, in [-1, 1]: per ray that ended on a boundary within ``hit_range``, -1 if it passed
         through a wall the map holds, else +1 if the map has a wall within one cell of its end, -1
         if the map knows that cell as free ground (a boundary where the map has none), 0 where the
         map knows nothing; averaged over those rays.
         Look-alike places that the place code confuses differ here, as the map holds their
         surroundings beyond the nearest walls."""
         out = np.empty(points.shape[0])
-        stride = max(1, round(ranges.size * AGREEMENT_STRIDE_DEG / 360.0))
+        stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         _scan_agreement(
-            self.free, self.hits, points, float(heading), ranges, stride, float(max_range), self.extent, self.cell, HIT_RANGE, out
+            self.free, self.hits, points, float(heading), ranges, stride, float(max_range), self.extent, self.cell, self.hit_range, out
         )
         return out
 

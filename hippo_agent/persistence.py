@@ -14,14 +14,12 @@ import gymnasium as gym
 import numpy as np
 
 from hippo_agent.config import AgentConfig
+from hippo_env.env import ODOMETRY_BOUND
 
 __all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = (
-    4  # 2: path integration (odometry, centres, the integrator's belief); 3: the cells' spreads; 4: the exploration map, recruited cells
-)
-ODOMETRY_BOUND = 0.3  # m, the bound of a rebuilt odometry space (the env's)
+FORMAT_VERSION = 4  # raised whenever what a file holds changes; files of another version are refused
 
 # Every saved array: its name in the file -> (the agent's part holding it, the attribute).
 ARRAY_HOME: dict[str, tuple[str, str]] = {
@@ -135,13 +133,14 @@ def load(cls: type, path: str | os.PathLike) -> Any:
     try:
         config = AgentConfig.from_dict(meta["config"])
         n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
-        spaces = {
+        spaces: dict[str, gym.spaces.Space] = {
             "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
             "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
         }
         if meta["observation"]["odometry"]:
             spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
         obs_space = gym.spaces.Dict(spaces)
+        act_space: gym.spaces.Space
         if meta["action"]["kind"] == "discrete":
             act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
         else:
@@ -182,5 +181,5 @@ def load(cls: type, path: str | os.PathLike) -> Any:
     except ValueError as exc:
         raise ValueError(f"{what}: {exc}") from exc
     except (KeyError, TypeError, AttributeError) as exc:
-        raise ValueError(f"{what}: metadata is incomplete ({type(exc).__name__}: {exc})") from exc
+        raise ValueError(f"{what}: metadata is incomplete or malformed ({type(exc).__name__}: {exc})") from exc
     return agent

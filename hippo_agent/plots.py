@@ -53,9 +53,11 @@ def _draw_arena(ax: Any, maze: Any = None, size: tuple[float, float] | None = No
     or a bare floor of ``size``, drawn by :func:`hippo_env.render.draw_maze` in its plot style."""
     from hippo_env.render import PLOT_STYLE, draw_maze
 
-    if maze is None and size is None:
-        return
-    draw_maze(maze if maze is not None else SimpleNamespace(size=tuple(size), obstacles=()), ax, style=PLOT_STYLE)
+    if maze is None:
+        if size is None:
+            return
+        maze = SimpleNamespace(size=tuple(size), obstacles=())
+    draw_maze(maze, ax, style=PLOT_STYLE)
 
 
 def _draw_goal(ax: Any, goal: Any, goal_radius: float) -> None:

@@ -26,9 +26,6 @@ terminates) and may step and reset it as often as it likes; every one of those s
 ``is_success``, ``collision``, ``heading`` and ``sim_time``; not ``position``, ``goal``,
 ``path_length``, ``shortest_path_length`` or ``indirectness``. The runner does not hide them, so
 that privileged reference agents can be written too (label them so).
-
-``dry_run`` was called ``prepare`` before: an agent that still defines only ``prepare`` is given
-its dry run there, with a ``DeprecationWarning`` (:func:`hippo_env.dmtp.dry_run_method`).
 """
 
 from __future__ import annotations

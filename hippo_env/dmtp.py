@@ -17,17 +17,17 @@ import json
 import math
 import platform
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, SupportsFloat
 
 import gymnasium as gym
 import numpy as np
 
-from hippo_env.agent_protocol import AgentBase, AgentFactory, missing_methods
-from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv
+from hippo_env.agent_protocol import AgentFactory, missing_methods
+from hippo_env.checks import check_int
+from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv, maze_env
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
 
@@ -110,21 +110,16 @@ class DMTPResult:
             record["complete"] = False
         if self.error is not None:
             record["error"] = self.error
-        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the key committed records have
+        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the documented key of dmtp.json
         return record
-
-    @property
-    def episodes(self) -> list[Run]:
-        """Deprecated: the former name of :attr:`run_records`."""
-        warnings.warn("DMTPResult.episodes is deprecated: use run_records", DeprecationWarning, stacklevel=2)
-        return self.run_records
 
     def save(self, out_dir: str | Path) -> Path:
         """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``, each atomically."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         buffer = io.BytesIO()
-        np.savez_compressed(buffer, **{f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)})
+        arrays: dict[str, Any] = {f"trial{t}_run{r}": p for t, runs in enumerate(self.paths) for r, p in enumerate(runs)}
+        np.savez_compressed(buffer, **arrays)
         atomic_write(out / "paths.npz", buffer.getvalue())
         return write_json(out / "dmtp.json", self.to_dict())
 
@@ -183,7 +178,9 @@ def rollout(
 
     The caller resets the env and the agent first. With ``max_steps=0`` nothing happens.
     """
-    reward, terminated, truncated, info, steps = 0.0, False, False, {}, 0
+    reward: SupportsFloat = 0.0
+    terminated, truncated, steps = False, False, 0
+    info: dict[str, Any] = {}
     while max_steps is None or steps < max_steps:
         action = agent.act(observation)
         observation, reward, terminated, truncated, info = env.step(action)
@@ -202,12 +199,12 @@ class _CountingEnv(gym.Wrapper):
         self.steps = 0
         self.allow_goal = allow_goal
 
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal")):
             raise ValueError("an agent may not place a goal during its dry run; reset without 'goal' or 'new_goal'")
         return self.env.reset(seed=seed, options=options)
 
-    def step(self, action: Any):
+    def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         self.steps += 1
         return self.env.step(action)
 
@@ -255,24 +252,17 @@ def run_dmtp(
         on_run_end: Called as ``on_run_end(trial, run, agent, env)`` after every run.
 
     Raises:
-        ValueError: Bad ``trials``, ``runs`` or maze, or an environment argument ``HippoMaze-v0`` does not take.
+        TypeError: ``trials`` or ``runs`` not an integer, or an agent that does not follow the protocol.
+        ValueError: ``trials`` or ``runs`` below 1, a bad maze, or an environment argument ``HippoMaze-v0`` does not take.
         DMTPInterrupted: On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` holds the finished runs.
         DMTPFailed: When an exception escapes the agent, the environment or ``on_run_end`` once the
             experiment has begun; raised from that exception (its traceback is kept), with the
             finished runs in its ``result``.
     """
-    for name, value in (("trials", trials), ("runs", runs)):
-        if not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    check_int(trials, "trials", 1, "a positive integer")
+    check_int(runs, "runs", 1, "a positive integer")
     spec = MazeSpec.load(maze)
-    make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
-    if max_episode_steps is not None:
-        make_kwargs["max_episode_steps"] = max_episode_steps
-    _check_make_kwargs(make_kwargs)
-    env = gym.make("HippoMaze-v0", maze=spec, **make_kwargs)
-    counted = _CountingEnv(env, allow_goal=True)
-    rng = np.random.default_rng(seed)
-    agent_seeds = np.random.SeedSequence(seed).generate_state(trials)
+    env, make_kwargs = _make_env(spec, make_agent, env_kwargs, max_episode_steps)
     result = DMTPResult(
         maze=spec.name,
         agent=agent_name,
@@ -280,98 +270,163 @@ def run_dmtp(
         trials=int(trials),
         runs=int(runs),
         max_episode_steps=env.spec.max_episode_steps if env.spec is not None else max_episode_steps,
-        action_type=env.unwrapped.action_type,
+        action_type=maze_env(env).action_type,
         env_kwargs=dict(make_kwargs),
         agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
         versions=_versions(),
     )
-    began = time.perf_counter()
-    bar = _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
+    experiment = _Experiment(
+        env, result, make_agent, step_budget, on_run_end, _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
+    )
     env.reset(seed=int(seed), options={"goal": None})
-    agent = None
-    doing = "starting"  # what the loop is doing, for the message of an exception that stops it
-
-    def budget_left() -> bool:
-        return step_budget is None or sum(result.dry_run_steps) + counted.steps < step_budget
-
-    def finish() -> None:
-        result.env_steps_total = sum(result.dry_run_steps) + counted.steps
-        result.seconds = time.perf_counter() - began
-        if bar is not None:
-            bar.close()
-        env.close()
-
-    try:
-        for trial in range(trials):
-            if not budget_left():
-                break
-            goal = spec.sample_free(rng, GOAL_CLEARANCE)
-            starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
-            if same_start:
-                starts = [starts[0]] * runs
-            result.dry_run_steps.append(0)
-            if agent is None or fresh_agent_per_trial:
-                doing = f"building the agent for trial {trial + 1}"
-                agent = make_agent(env.observation_space, env.action_space, seed=int(agent_seeds[trial]))
-                _check_agent(agent)
-                if trial == 0:
-                    result.agent_config = agent_config(agent)
-                dry_run = dry_run_method(agent)
-                if dry_run is not None:
-                    doing = f"the dry run of trial {trial + 1}"
-                    env.reset(options={"goal": None})
-                    explorer = _CountingEnv(env, allow_goal=False)
-                    try:
-                        dry_run(explorer)
-                    finally:  # an interrupted dry run's steps count too
-                        result.dry_run_steps[-1] = explorer.steps
-            doing = f"starting trial {trial + 1}"
-            if callable(getattr(agent, "start_trial", None)):
-                agent.start_trial(trial)
-            trial_paths: list[np.ndarray] = []
-            result.paths.append(trial_paths)
-            for run in range(runs):
-                if not budget_left():
-                    break
-                doing = f"trial {trial + 1}, run {run + 1}"
-                observation, info = counted.reset(options={"goal": goal, "start": starts[run]})
-                agent.reset(observation, info)
-                steps_before = counted.steps
-                end = rollout(counted, agent, observation, keep_going=budget_left)
-                if not (end.terminated or end.truncated):
-                    break  # cut short by the step budget: not a run
-                info = end.info
-                trial_paths.append(env.unwrapped.path.copy())
-                result.run_records.append(
-                    Run(
-                        trial=trial,
-                        run=run,
-                        steps=counted.steps - steps_before,
-                        success=bool(info["is_success"]),
-                        path_length=float(info["path_length"]),
-                        shortest_path_length=float(info["shortest_path_length"]),
-                        indirectness=float(info.get("indirectness", math.nan)),
-                        start=[float(v) for v in starts[run]],
-                        goal=[float(v) for v in goal],
-                    )
-                )
-                if on_run_end is not None:
-                    doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
-                    on_run_end(trial, run, agent, env)
-                if bar is not None:
-                    bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{result.run_records[-1].indirectness:.2f}")
-                    bar.update(1)
-    except KeyboardInterrupt:
-        _keep_finished(result)
-        finish()
-        raise DMTPInterrupted(result) from None
-    except Exception as err:
-        _keep_finished(result)
-        result.error = f"{type(err).__name__}: {err}"
-        finish()
-        raise DMTPFailed(result, doing) from err
-    finish()
+    experiment.run(spec, seed, same_start, fresh_agent_per_trial)
     return result
+
+
+def _make_env(
+    spec: MazeSpec, make_agent: AgentFactory, env_kwargs: dict[str, Any] | None, max_episode_steps: int | None
+) -> tuple[gym.Env, dict[str, Any]]:
+    """The experiment's environment and every argument it was made with besides the maze: the
+    factory's own ``env_kwargs``, then ``env_kwargs`` over them, then ``max_episode_steps``."""
+    make_kwargs = {**getattr(make_agent, "env_kwargs", {}), **(env_kwargs or {})}
+    if max_episode_steps is not None:
+        make_kwargs["max_episode_steps"] = max_episode_steps
+    _check_make_kwargs(make_kwargs)
+    return gym.make("HippoMaze-v0", maze=spec, **make_kwargs), make_kwargs
+
+
+def _draw_trial(spec: MazeSpec, rng: np.random.Generator, runs: int, same_start: bool) -> tuple[np.ndarray, list[np.ndarray]]:
+    """A trial's goal and its runs' starts, from the runner's own generator: every agent given the
+    same seed faces the same ones."""
+    goal = spec.sample_free(rng, GOAL_CLEARANCE)
+    starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
+    if same_start:
+        starts = [starts[0]] * runs
+    return goal, starts
+
+
+class _Experiment:
+    """One :func:`run_dmtp` call under way: the environment, the agent, the step count and the record.
+
+    ``doing`` says what the runner is doing, for the message of an exception that stops it.
+    """
+
+    def __init__(
+        self,
+        env: gym.Env,
+        result: DMTPResult,
+        make_agent: AgentFactory,
+        step_budget: int | None,
+        on_run_end: Callable[[int, int, Any, gym.Env], None] | None,
+        bar: Any,
+    ) -> None:
+        self.env = env
+        self.counted = _CountingEnv(env, allow_goal=True)
+        self.result = result
+        self.make_agent = make_agent
+        self.step_budget = step_budget
+        self.on_run_end = on_run_end
+        self.bar = bar
+        self.agent: Any = None
+        self.doing = "starting"
+        self.began = time.perf_counter()
+
+    def run(self, spec: MazeSpec, seed: int, same_start: bool, fresh_agent_per_trial: bool) -> None:
+        """Every trial and run; on Ctrl-C or an exception, keep what finished and raise
+        :class:`DMTPInterrupted` or :class:`DMTPFailed`."""
+        result = self.result
+        rng = np.random.default_rng(seed)
+        agent_seeds = np.random.SeedSequence(seed).generate_state(result.trials)
+        try:
+            for trial in range(result.trials):
+                if not self.budget_left():
+                    break
+                goal, starts = _draw_trial(spec, rng, result.runs, same_start)
+                result.dry_run_steps.append(0)
+                if self.agent is None or fresh_agent_per_trial:
+                    self.agent = self.new_agent(trial, int(agent_seeds[trial]))
+                self.start_trial(trial)
+                for run in range(result.runs):
+                    if not self.budget_left() or not self.run_once(trial, run, goal, starts[run]):
+                        break
+        except KeyboardInterrupt:
+            _keep_finished(result)
+            self.finish()
+            raise DMTPInterrupted(result) from None
+        except Exception as err:
+            _keep_finished(result)
+            result.error = f"{type(err).__name__}: {err}"
+            self.finish()
+            raise DMTPFailed(result, self.doing) from err
+        self.finish()
+
+    def budget_left(self) -> bool:
+        """Whether the step budget (the dry runs' steps included) allows another step."""
+        return self.step_budget is None or sum(self.result.dry_run_steps) + self.counted.steps < self.step_budget
+
+    def new_agent(self, trial: int, seed: int) -> Any:
+        """A new agent for ``trial``, checked, after its dry run (whose steps count, even if it is interrupted)."""
+        self.doing = f"building the agent for trial {trial + 1}"
+        agent = self.make_agent(self.env.observation_space, self.env.action_space, seed=seed)
+        _check_agent(agent)
+        if trial == 0:
+            self.result.agent_config = agent_config(agent)
+        dry_run = dry_run_method(agent)
+        if dry_run is not None:
+            self.doing = f"the dry run of trial {trial + 1}"
+            self.env.reset(options={"goal": None})
+            explorer = _CountingEnv(self.env, allow_goal=False)
+            try:
+                dry_run(explorer)
+            finally:
+                self.result.dry_run_steps[-1] = explorer.steps
+        return agent
+
+    def start_trial(self, trial: int) -> None:
+        """Tell the agent the goal has moved (if it listens), and open the trial's paths."""
+        self.doing = f"starting trial {trial + 1}"
+        if callable(getattr(self.agent, "start_trial", None)):
+            self.agent.start_trial(trial)
+        self.result.paths.append([])
+
+    def run_once(self, trial: int, run: int, goal: np.ndarray, start: np.ndarray) -> bool:
+        """One run from ``start``, recorded; False if the step budget cut it short (not a run: not recorded)."""
+        self.doing = f"trial {trial + 1}, run {run + 1}"
+        observation, info = self.counted.reset(options={"goal": goal, "start": start})
+        self.agent.reset(observation, info)
+        steps_before = self.counted.steps
+        end = rollout(self.counted, self.agent, observation, keep_going=self.budget_left)
+        if not (end.terminated or end.truncated):
+            return False
+        self.result.paths[-1].append(maze_env(self.env).path.copy())
+        self.result.run_records.append(
+            Run(
+                trial=trial,
+                run=run,
+                steps=self.counted.steps - steps_before,
+                success=bool(end.info["is_success"]),
+                path_length=float(end.info["path_length"]),
+                shortest_path_length=float(end.info["shortest_path_length"]),
+                indirectness=float(end.info.get("indirectness", math.nan)),
+                start=[float(v) for v in start],
+                goal=[float(v) for v in goal],
+            )
+        )
+        if self.on_run_end is not None:
+            self.doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
+            self.on_run_end(trial, run, self.agent, self.env)
+        if self.bar is not None:
+            self.bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{self.result.run_records[-1].indirectness:.2f}")
+            self.bar.update(1)
+        return True
+
+    def finish(self) -> None:
+        """Count the steps, stop the clock, close the progress bar and the environment."""
+        self.result.env_steps_total = sum(self.result.dry_run_steps) + self.counted.steps
+        self.result.seconds = time.perf_counter() - self.began
+        if self.bar is not None:
+            self.bar.close()
+        self.env.close()
 
 
 def _keep_finished(result: DMTPResult) -> None:
@@ -463,16 +518,8 @@ def _check_make_kwargs(make_kwargs: dict[str, Any]) -> None:
 
 
 def dry_run_method(agent: Any) -> Callable[[gym.Env], None] | None:
-    """The agent's dry run (its ``dry_run`` method), or None if it has none.
-
-    ``prepare`` is the dry run's former name: an agent that defines ``prepare`` but no ``dry_run``
-    of its own (``AgentBase``'s no-op does not count) gets its dry run there, with a ``DeprecationWarning``.
-    """
+    """The agent's dry run (its ``dry_run`` method), or None if it has none."""
     dry_run = getattr(agent, "dry_run", None)
-    prepare = getattr(agent, "prepare", None)
-    if callable(prepare) and (not callable(dry_run) or getattr(dry_run, "__func__", None) is AgentBase.dry_run):
-        warnings.warn(f"{type(agent).__name__}.prepare is the dry run's former name: rename it dry_run", DeprecationWarning, stacklevel=2)
-        return prepare
     return dry_run if callable(dry_run) else None
 
 
@@ -484,19 +531,12 @@ def _check_agent(agent: Any) -> None:
         )
 
 
-def _progress(total: int, description: str, enabled: bool):
+def _progress(total: int, description: str, enabled: bool) -> Any:
     if not enabled:
         return None
     from tqdm.auto import tqdm
 
     return tqdm(total=total, desc=description, unit="run")
-
-
-def __getattr__(name: str) -> Any:
-    if name == "Episode":  # the former name of Run
-        warnings.warn("hippo_env.dmtp.Episode is deprecated: use Run", DeprecationWarning, stacklevel=2)
-        return Run
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["DMTPFailed", "DMTPInterrupted", "DMTPResult", "RolloutEnd", "Run", "agent_config", "dry_run_method", "rollout", "run_dmtp"]

@@ -4,20 +4,22 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, SupportsFloat
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
 from hippo_env import physics
-from hippo_env.geometry import DistanceField
+from hippo_env.checks import check_int, check_number
+from hippo_env.geodesic import DistanceField
+from hippo_env.geometry import Point
 from hippo_env.maze import MazeSpec
 from hippo_env.path_record import PathRecord
 from hippo_env.sensors import Rangefinder
 
 if TYPE_CHECKING:
-    from hippo_env.render import Frame
+    from hippo_env.render import Frame, Renderer
 
 ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
@@ -115,7 +117,8 @@ class HippoMazeEnv(gym.Env):
       (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged).
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+    # gymnasium.Env declares metadata as an attribute, so a ClassVar here would contradict it.
+    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}  # noqa: RUF012
 
     def __init__(
         self,
@@ -147,11 +150,10 @@ class HippoMazeEnv(gym.Env):
 
             check_human_display()  # now, not as a silent blank window at the first step
         if not isinstance(odometry, bool):
-            raise ValueError(f"odometry must be True or False, got {odometry!r}")
+            raise TypeError(f"odometry must be True or False, got {odometry!r}")
         noises = (("range_noise", range_noise), ("odometry_noise", odometry_noise), ("heading_noise", heading_noise))
         for name, value in (*noises, ("goal_radius", goal_radius), ("min_start_distance", min_start_distance)):
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+            check_number(value, name, "a finite number >= 0", 0.0)
         if goal_radius <= 0:
             raise ValueError(f"goal_radius must be positive, got {goal_radius!r}")
         self.maze = MazeSpec.load(maze)
@@ -169,7 +171,7 @@ class HippoMazeEnv(gym.Env):
         self.render_mode = render_mode
         self.render_rays = bool(render_rays)
 
-        observation_spaces = {
+        observation_spaces: dict[str, spaces.Space] = {
             "ranges": spaces.Box(0.0, self.rangefinder.max_range, (self.rangefinder.n_rays,), np.float32),
             "heading": spaces.Box(-1.0, 1.0, (2,), np.float32),
         }
@@ -196,7 +198,7 @@ class HippoMazeEnv(gym.Env):
         self._path_length = 0.0
         self._shortest = math.nan
         self._elapsed = 0
-        self._renderer = None
+        self._renderer: Renderer | None = None
         self._reset_done = False  # the robot has no pose until the first reset places it
 
     # ------------------------------------------------------------------ gymnasium API
@@ -226,9 +228,7 @@ class HippoMazeEnv(gym.Env):
             start = self.maze.sample_free(self.np_random, START_CLEARANCE, away_from=self.goal, min_distance=self.min_start_distance)
         heading = self.np_random.uniform(-math.pi, math.pi)
         if "heading" in options:
-            heading = options["heading"]
-            if not isinstance(heading, (int, float, np.floating, np.integer)) or not math.isfinite(heading):
-                raise ValueError(f"reset option 'heading' must be a finite angle in radians, got {heading!r}")
+            heading = check_number(options["heading"], "reset option 'heading'", "a finite angle in radians")
         self.world.reset(start, float(heading))
         self._reset_done = True
         self._path.reset(self.world.position)
@@ -361,17 +361,14 @@ class HippoMazeEnv(gym.Env):
 
     def _box_action(self, action: Any) -> np.ndarray:
         space = self.action_space
+        assert isinstance(space, spaces.Box)  # every action type but "discrete" has a Box
         try:
-            values = np.asarray(action, dtype=np.float64).reshape(space.shape)
+            values: np.ndarray | None = np.asarray(action, dtype=np.float64).reshape(space.shape)
         except (TypeError, ValueError):
             values = None
-        ok = (
-            values is not None
-            and bool(np.all(np.isfinite(values)))
-            and bool(np.all(values >= space.low - 1e-6))
-            and bool(np.all(values <= space.high + 1e-6))
-        )
-        if not ok:
+        if values is None or not (
+            bool(np.all(np.isfinite(values))) and bool(np.all(values >= space.low - 1e-6)) and bool(np.all(values <= space.high + 1e-6))
+        ):
             meaning = {"heading": "[heading in radians]", "heading_normalized": "[heading in units of pi radians]"}.get(
                 self.action_type, "[left, right] wheel speeds"
             )
@@ -397,8 +394,7 @@ class HippoMazeEnv(gym.Env):
         if goal is not None:
             return self._check_goal(goal, "argument 'goal'")
         if goal_seed is not None:
-            if not isinstance(goal_seed, (int, np.integer)) or isinstance(goal_seed, bool) or goal_seed < 0:
-                raise ValueError(f"goal_seed must be a non-negative integer, got {goal_seed!r}")
+            check_int(goal_seed, "goal_seed", 0, "a non-negative integer")
             return self.maze.sample_free(np.random.default_rng(int(goal_seed)), GOAL_CLEARANCE)
         return None if self.maze.goal is None else np.asarray(self.maze.goal, float)
 
@@ -435,10 +431,11 @@ class HippoMazeEnv(gym.Env):
             )
         return max(length - self.goal_radius, 0.0)
 
-    def _distance_to_goal(self, position: np.ndarray) -> float:
+    def _distance_to_goal(self, position: Point) -> float:
         """Geodesic distance to the goal: the distance of the grid cell holding ``position`` in a field
         built once per goal. Cells the robot cannot occupy count as the farthest reachable one, so
         pushing against a wall never pays."""
+        assert self.goal is not None  # (the dense reward needs a goal)
         if self._distance_field is None:
             field = self.maze.distance_field(self.goal, physics.ROBOT_RADIUS, DENSE_GRID)
             reachable = field.distances[np.isfinite(field.distances)]
@@ -447,6 +444,14 @@ class HippoMazeEnv(gym.Env):
         rows, cols = field.cell(position)
         distance = float(field.distances[rows[0], cols[0]])
         return distance if math.isfinite(distance) else farthest
+
+
+def maze_env(env: gym.Env) -> HippoMazeEnv:
+    """The :class:`HippoMazeEnv` inside ``gym.make``'s wrappers (``TypeError`` if there is none)."""
+    inner = env.unwrapped
+    if not isinstance(inner, HippoMazeEnv):
+        raise TypeError(f"expected a HippoMaze-v0 environment, got {inner!r}")
+    return inner
 
 
 def add_indirectness(info: dict[str, Any]) -> None:
@@ -467,7 +472,7 @@ class EpisodeEndInfo(gym.Wrapper, gym.utils.RecordConstructorArgs):
         gym.utils.RecordConstructorArgs.__init__(self)
         gym.Wrapper.__init__(self, env)
 
-    def step(self, action: Any):
+    def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         observation, reward, terminated, truncated, info = self.env.step(action)
         if truncated and not terminated:
             add_indirectness(info)

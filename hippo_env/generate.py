@@ -70,6 +70,8 @@ from pathlib import Path
 
 import numpy as np
 
+from hippo_env.checks import check_int, check_number
+from hippo_env.geometry import counter_clockwise, polygon_distance
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
 
@@ -154,15 +156,10 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
             (7-40 m for ``"arena"``), ``cells`` out of range, too many cells for the size, or
             given to a kind without cells, or an empty name.
     """
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-    if seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed}")
+    check_int(seed, "seed", 0, "a non-negative integer")
     if kind not in KINDS:
         raise ValueError(f"maze kind {kind!r} is unknown; allowed kinds: {', '.join(KINDS)}")
-    if isinstance(size, bool) or not isinstance(size, (int, float, np.integer, np.floating)) or not math.isfinite(size):
-        raise ValueError(f"size must be a number of metres from {MIN_SIZE:g} to {MAX_SIZE:g}, got {size!r}")
-    size = float(size)
+    size = check_number(size, "size", f"a number of metres from {MIN_SIZE:g} to {MAX_SIZE:g}")
     if not MIN_SIZE <= size <= MAX_SIZE:
         raise ValueError(f"size must be from {MIN_SIZE:g} to {MAX_SIZE:g} m, got {size:g}")
     if kind == "arena" and size < MIN_ARENA_SIZE:
@@ -174,22 +171,25 @@ def generate_maze(seed: int, kind: str = "walls", size: float = 10.0, name: str 
         name = f"gen-{kind}-{int(seed)}" + ("" if size == 10.0 else f"-{size:g}m")
         if cells is not None and k != default_cells(kind, size):
             name += f"-{k}x{k}"
-    elif not isinstance(name, str) or not name:
+    elif not isinstance(name, str):
+        raise TypeError(f"name must be a non-empty string or None, got {name!r}")
+    elif not name:
         raise ValueError(f"name must be a non-empty string or None, got {name!r}")
 
     rng = np.random.default_rng(int(seed))
+    per_side = k if k is not None else 0  # cells or rooms per side: only "perfect" and "rooms" have them
     draw: Callable[[np.random.Generator, float], list[Polygon] | None] = {
         "walls": _draw_walls,
         "corridors": _draw_corridors,
-        "perfect": lambda rng, size: _draw_perfect(rng, size, k),
-        "rooms": lambda rng, size: _draw_rooms(rng, size, k),
+        "perfect": lambda rng, size: _draw_perfect(rng, size, per_side),
+        "rooms": lambda rng, size: _draw_rooms(rng, size, per_side),
         "arena": _draw_arena,
     }[kind]
     for _ in range(_MAX_ATTEMPTS):
         obstacles = draw(rng, size)
         if obstacles is None:
             continue
-        spec = MazeSpec(name=name, size=(size, size), obstacles=obstacles)
+        spec = MazeSpec(name=name, size=(size, size), obstacles=tuple(obstacles))
         try:
             spec.check_connected(ROBOT_RADIUS, resolution=_CONNECTIVITY_RESOLUTION)
         except ValueError:
@@ -229,8 +229,9 @@ def _check_cells(kind: str, size: float, cells: int | None) -> int | None:
     if cells is None:
         return default_cells(kind, size)
     low, high, smallest, what = (*PERFECT_CELLS, MIN_CELL, "cell") if kind == "perfect" else (*ROOM_GRIDS, MIN_ROOM, "room")
-    if isinstance(cells, bool) or not isinstance(cells, (int, np.integer)) or not low <= cells <= high:
-        raise ValueError(f"cells must be an integer from {low} to {high} for kind {kind!r}, got {cells!r}")
+    allowed = f"an integer from {low} to {high} for kind {kind!r}"
+    if check_int(cells, "cells", low, allowed) > high:
+        raise ValueError(f"cells must be {allowed}, got {cells!r}")
     if size / cells < smallest - 1e-9:
         raise ValueError(
             f"cells={cells} is too many for a {size:g} m arena: a {what} would be {size / cells:.2f} m, less than the "
@@ -255,7 +256,7 @@ def _spaced(count: int, draw: Callable[[], Polygon | None]) -> list[Polygon] | N
     for _ in range(count):
         for _ in range(_PLACE_TRIES):
             polygon = draw()
-            if polygon is not None and all(_polygon_distance(polygon, other) >= WALL_GAP for other in placed):
+            if polygon is not None and all(polygon_distance(polygon, other) >= WALL_GAP for other in placed):
                 placed.append(polygon)
                 break
         else:
@@ -288,7 +289,7 @@ def _draw_wall(rng: np.random.Generator, half: float, scale: float) -> Polygon |
         # The end on the side lies exactly on it (no rounding error outside the arena).
         axis = 0 if side in (1, 3) else 1
         edge = -half * inward[axis]
-        polygon = tuple(tuple(edge if k in (0, 3) and i == axis else c for i, c in enumerate(p)) for k, p in enumerate(polygon))
+        polygon = tuple((_on_side(p, axis, edge) if k in (0, 3) else p) for k, p in enumerate(polygon))
         others = [s for s in range(4) if s != side]
     else:
         angle = math.radians(float(WALL_ANGLES[int(rng.integers(len(WALL_ANGLES)))]))
@@ -300,7 +301,12 @@ def _draw_wall(rng: np.random.Generator, half: float, scale: float) -> Polygon |
         others = [0, 1, 2, 3]
     if min(_side_distance(polygon, half, s) for s in others) < WALL_GAP:
         return None
-    return _counter_clockwise(polygon)
+    return counter_clockwise(polygon)
+
+
+def _on_side(point: tuple[float, float], axis: int, edge: float) -> tuple[float, float]:
+    """``point`` with its coordinate ``axis`` set to ``edge``: moved onto the side of the arena."""
+    return (edge, point[1]) if axis == 0 else (point[0], edge)
 
 
 def _side_distance(polygon: Polygon, half: float, side: int) -> float:
@@ -325,7 +331,7 @@ def _draw_block(rng: np.random.Generator, half: float) -> Polygon | None:
     polygon = _rounded([centre + su * width / 2 * u + sn * height / 2 * n for su, sn in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
     if min(_side_distance(polygon, half, s) for s in range(4)) < WALL_GAP:
         return None
-    return _counter_clockwise(polygon)
+    return counter_clockwise(polygon)
 
 
 # ---------------------------------------------------------------------- the grid kinds
@@ -371,7 +377,12 @@ def _draw_rooms(rng: np.random.Generator, size: float, r: int) -> list[Polygon]:
 
 def _grid_edges(k: int) -> list[Edge]:
     """Every interior edge of a k x k grid of cells (column i, row j), as sorted pairs of neighbouring cells."""
-    return sorted({tuple(sorted((c, d))) for c in ((i, j) for i in range(k) for j in range(k)) for d in _neighbours(c, k)})
+    return sorted({_edge(c, d) for c in ((i, j) for i in range(k) for j in range(k)) for d in _neighbours(c, k)})
+
+
+def _edge(c: Cell, d: Cell) -> Edge:
+    """The edge between neighbouring cells ``c`` and ``d``, as the sorted pair."""
+    return (c, d) if c <= d else (d, c)
 
 
 def _neighbours(cell: Cell, k: int) -> list[Cell]:
@@ -392,7 +403,7 @@ def _spanning_tree(rng: np.random.Generator, k: int) -> set[Edge]:
             stack.pop()
             continue
         nxt = fresh[int(rng.integers(len(fresh)))]
-        tree.add(tuple(sorted((current, nxt))))
+        tree.add(_edge(current, nxt))
         visited.add(nxt)
         stack.append(nxt)
     return tree
@@ -469,59 +480,9 @@ def _rectangle(x0: float, y0: float, x1: float, y1: float) -> Polygon:
     return _rounded([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])  # counter-clockwise
 
 
-# ---------------------------------------------------------------------- geometry helpers
+# ---------------------------------------------------------------------- vertices
 def _rounded(points: Sequence[Sequence[float]]) -> Polygon:
     return tuple((round(float(x), _DECIMALS) + 0.0, round(float(y), _DECIMALS) + 0.0) for x, y in points)
-
-
-def _signed_area(polygon: Polygon) -> float:
-    return 0.5 * sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(polygon, polygon[1:] + polygon[:1]))
-
-
-def _counter_clockwise(polygon: Polygon) -> Polygon:
-    return polygon if _signed_area(polygon) > 0 else polygon[::-1]
-
-
-def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    ab = b - a
-    t = float(np.clip((p - a).dot(ab) / max(ab.dot(ab), 1e-18), 0.0, 1.0))
-    return float(np.linalg.norm(p - (a + t * ab)))
-
-
-def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
-    def cross(o, p, q):
-        return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-
-    return cross(a, b, c) * cross(a, b, d) < 0 and cross(c, d, a) * cross(c, d, b) < 0
-
-
-def _polygon_distance(p: Polygon, q: Polygon) -> float:
-    """Distance between two simple polygons (0 when they touch, cross or one holds the other)."""
-    pa, qa = np.asarray(p, float), np.asarray(q, float)
-    if _inside(pa[0], qa) or _inside(qa[0], pa):
-        return 0.0
-    best = math.inf
-    for a, b in zip(pa, np.roll(pa, -1, axis=0)):
-        for c, d in zip(qa, np.roll(qa, -1, axis=0)):
-            if _segments_cross(a, b, c, d):
-                return 0.0
-            best = min(
-                best,
-                _point_segment_distance(a, c, d),
-                _point_segment_distance(b, c, d),
-                _point_segment_distance(c, a, b),
-                _point_segment_distance(d, a, b),
-            )
-    return best
-
-
-def _inside(point: np.ndarray, polygon: np.ndarray) -> bool:
-    x, y = point
-    inside = False
-    for (x0, y0), (x1, y1) in zip(polygon, np.roll(polygon, -1, axis=0)):
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
 
 
 def maze_json(spec: MazeSpec) -> str:

@@ -1,16 +1,18 @@
-"""Maze specifications: the arena, its obstacles, JSON loading and validation, free space, geodesics.
+"""Maze specifications: the arena, its obstacles, JSON loading and validation, free space.
 
 A maze is a rectangle ``size = (width, height)`` in metres centred on the origin, holding zero or
-more obstacles, each a simple polygon. Everything the environment needs to know about geometry
-lives here: the wall segments (for physics and the rangefinder), the clearance of a point from
-the walls, sampling free positions, and the shortest path around obstacles inflated by the robot's
-radius (a visibility graph over points placed around every convex corner, then Dijkstra).
+more obstacles, each a simple polygon. A :class:`MazeSpec` answers what the environment asks of
+a maze: the wall segments (for physics and the rangefinder), the clearance of a point from the
+walls, sampling free positions, whether the free space is connected, and the shortest path
+around the obstacles (computed by :mod:`hippo_env.geodesic`, on the primitives of
+:mod:`hippo_env.geometry`).
 """
 
 from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -19,22 +21,25 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from hippo_env.geometry import DistanceField, clear_of_segments, segments_clearance
+from hippo_env.geodesic import DistanceField, VisibilityGraph
+from hippo_env.geometry import (
+    CHUNK,
+    Point,
+    clear_of_segments,
+    point_in_polygon,
+    points_in_polygon,
+    segments_clearance,
+    segments_intersect,
+    signed_area,
+)
 
 BUILTIN_MAZES = ("open", "maze1", "maze2", "maze3", "maze4")
 
-# Points placed around each convex corner of an inflated obstacle: an arc every 15 degrees
-# keeps the polygonal path within 2 mm of the true rounded one for a 0.17 m robot.
-_ARC_STEP = math.radians(15.0)
-# Visibility segments may graze an inflated obstacle by this much (chords of those arcs).
-_GRAZE = 3e-3
 #: The largest arena side, in metres. The connectivity check rasterises the free space at 5 cm,
 #: so its cost grows with the arena's area; this bound keeps it under a second and ~100 MB.
 MAX_SIZE = 100.0
 #: The grid on which :meth:`MazeSpec.check_connected` finds the free space's parts (metres).
 CONNECTIVITY_RESOLUTION = 0.05
-# Work on at most this many (point, segment) or (pair, wall) combinations at once.
-_CHUNK = 1 << 18
 
 
 def _builtin_names() -> str:
@@ -60,7 +65,9 @@ class MazeSpec:
     _segments: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
+        if not isinstance(self.name, str):
+            raise TypeError(f"maze 'name' must be a non-empty string, got {self.name!r}")
+        if not self.name:
             raise ValueError(f"maze 'name' must be a non-empty string, got {self.name!r}")
         size = _as_point(self.size, f"maze {self.name!r}: 'size'")
         if size[0] <= 0 or size[1] <= 0:
@@ -72,11 +79,11 @@ class MazeSpec:
         object.__setattr__(self, "size", size)
         polygons = []
         if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
-            raise ValueError(f"maze {self.name!r}: 'obstacles' must be a list of polygons, got {self.obstacles!r}")
+            raise TypeError(f"maze {self.name!r}: 'obstacles' must be a list of polygons, got {self.obstacles!r}")
         for n, polygon in enumerate(self.obstacles):
             where = f"maze {self.name!r}: obstacle {n}"
             if isinstance(polygon, (str, bytes)) or not hasattr(polygon, "__iter__"):
-                raise ValueError(f"{where} must be a list of [x, y] vertices, got {polygon!r}")
+                raise TypeError(f"{where} must be a list of [x, y] vertices, got {polygon!r}")
             vertices = tuple(_as_point(p, f"{where}, vertex {k}") for k, p in enumerate(polygon))
             if len(vertices) < 3:
                 raise ValueError(f"{where} has {len(vertices)} vertices; a polygon needs at least 3")
@@ -96,9 +103,12 @@ class MazeSpec:
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_dict(cls, data: Any, source: str = "maze") -> MazeSpec:
-        """Build a spec from the JSON structure ``{"name", "size", "obstacles", ["goal"]}``."""
+        """Build a spec from the JSON structure ``{"name", "size", "obstacles", ["goal"]}``.
+
+        A field of the wrong type raises ``TypeError`` (:meth:`load`, which reads a document,
+        raises ``ValueError`` for anything wrong in it)."""
         if not isinstance(data, dict):
-            raise ValueError(f"{source}: a maze must be a JSON object with keys name, size, obstacles, got {type(data).__name__}")
+            raise TypeError(f"{source}: a maze must be a JSON object with keys name, size, obstacles, got {type(data).__name__}")
         allowed = {"name", "size", "obstacles", "goal"}
         unknown = sorted(set(data) - allowed)
         if unknown:
@@ -114,12 +124,12 @@ class MazeSpec:
         if isinstance(maze, MazeSpec):
             return maze
         if not isinstance(maze, (str, Path)):
-            raise ValueError(
+            raise TypeError(
                 f"maze must be a built-in name ({_builtin_names()}), a path to a JSON file or a MazeSpec, got {type(maze).__name__}"
             )
         if isinstance(maze, str) and maze in BUILTIN_MAZES:
             text = resources.files("hippo_env.mazes").joinpath(f"{maze}.json").read_text()
-            return cls.from_dict(json.loads(text), source=f"built-in maze {maze!r}")
+            return cls._from_document(json.loads(text), source=f"built-in maze {maze!r}")
         path = Path(maze)
         if path.suffix.lower() != ".json" and not path.exists():
             raise ValueError(f"maze {str(maze)!r} is unknown; built-in mazes: {_builtin_names()}, or give a path to a JSON file")
@@ -133,7 +143,15 @@ class MazeSpec:
             data = json.loads(text)
         except json.JSONDecodeError as err:
             raise ValueError(f"maze file {str(path)!r} is not valid JSON: {err}") from err
-        return cls.from_dict(data, source=f"maze file {str(path)!r}")
+        return cls._from_document(data, source=f"maze file {str(path)!r}")
+
+    @classmethod
+    def _from_document(cls, data: Any, source: str) -> MazeSpec:
+        """:meth:`from_dict` for the content of a file: whatever is wrong in it is a ``ValueError``."""
+        try:
+            return cls.from_dict(data, source=source)
+        except TypeError as err:
+            raise ValueError(str(err)) from err
 
     def to_dict(self) -> dict[str, Any]:
         data: dict[str, Any] = {
@@ -163,12 +181,12 @@ class MazeSpec:
                 rows.append((a[0], a[1], b[0], b[1]))
         return np.asarray(rows, dtype=np.float64)
 
-    def inside_obstacle(self, point: tuple[float, float] | np.ndarray) -> bool:
+    def inside_obstacle(self, point: Point) -> bool:
         """Whether a point lies inside (or on the boundary of) any obstacle polygon."""
         x, y = float(point[0]), float(point[1])
-        return any(_point_in_polygon(x, y, poly) for poly in self.obstacles)
+        return any(point_in_polygon(x, y, poly) for poly in self.obstacles)
 
-    def clearance(self, point: tuple[float, float] | np.ndarray) -> float:
+    def clearance(self, point: Point) -> float:
         """Distance from a point to the nearest wall; negative inside an obstacle or outside the arena."""
         return float(self.clearances([point])[0])
 
@@ -179,10 +197,10 @@ class MazeSpec:
         hw, hh = self.half_extent
         outside = (np.abs(xy[:, 0]) > hw) | (np.abs(xy[:, 1]) > hh)
         for poly in self.obstacles:
-            outside |= _points_in_polygon(xy, poly)
+            outside |= points_in_polygon(xy, poly)
         return np.where(outside, -distance, distance)
 
-    def is_free(self, point: tuple[float, float] | np.ndarray, radius: float) -> bool:
+    def is_free(self, point: Point, radius: float) -> bool:
         """Whether a disc of ``radius`` centred at ``point`` fits without touching any wall."""
         return self.clearance(point) >= radius
 
@@ -194,7 +212,7 @@ class MazeSpec:
         self,
         rng: np.random.Generator,
         clearance: float,
-        away_from: tuple[float, float] | None = None,
+        away_from: Point | None = None,
         min_distance: float = 0.0,
         tries: int = 10_000,
     ) -> np.ndarray:
@@ -245,7 +263,7 @@ class MazeSpec:
             cols = slice(np.searchsorted(xs, pts[:, 0].min()), np.searchsorted(xs, pts[:, 0].max(), side="right"))
             rows = slice(np.searchsorted(ys, pts[:, 1].min()), np.searchsorted(ys, pts[:, 1].max(), side="right"))
             for block_rows, points in _blocks(xs[cols], ys[rows], rows.start):
-                free[block_rows, cols] &= ~_points_in_polygon(points, poly).reshape(-1, len(xs[cols]))
+                free[block_rows, cols] &= ~points_in_polygon(points, poly).reshape(-1, len(xs[cols]))
         return xs, ys, free
 
     def distance_field(self, goal: np.ndarray, radius: float, resolution: float) -> DistanceField:
@@ -265,68 +283,21 @@ class MazeSpec:
             labels, n = relabel[labels], len(keep)
         return labels, n
 
-    def geodesic(self, start: tuple[float, float], goal: tuple[float, float], radius: float) -> float:
+    def geodesic(self, start: Point, goal: Point, radius: float) -> float:
         """Shortest path length for a disc of ``radius`` from ``start`` to ``goal`` around the obstacles.
 
-        The obstacles are inflated by ``radius``; the path is found on a visibility graph over
-        points placed around every convex obstacle corner (built once per radius), then Dijkstra.
-        In an open arena it is the straight line.
+        The obstacles are inflated by ``radius``; the path is found on a
+        :class:`~hippo_env.geodesic.VisibilityGraph` (built once per radius). In an open arena it is
+        the straight line.
         """
-        nodes, between = self._corner_graph(radius)
-        ends = np.asarray([start, goal], dtype=float)
-        points = np.concatenate([ends, nodes])
-        n = len(points)
-        lengths = np.full((n, n), np.inf)
-        lengths[2:, 2:] = between
-        # Edges from the two end points to everything else.
-        pairs_a = np.repeat(ends, n, axis=0)
-        pairs_b = np.tile(points, (2, 1))
-        seen = _visible_many(pairs_a, pairs_b, self._segments[4:], radius - _GRAZE).reshape(2, n)
-        direct = np.linalg.norm(pairs_a - pairs_b, axis=1).reshape(2, n)
-        lengths[:2] = np.where(seen, direct, np.inf)
-        lengths[:, :2] = lengths[:2].T
-        return _dijkstra(lengths, 0, 1)
+        return self._visibility_graph(radius).length(start, goal)
 
-    def _corner_graph(self, radius: float) -> tuple[np.ndarray, np.ndarray]:
-        """Nodes around the inflated obstacles' corners and the lengths of the visible edges between them."""
+    def _visibility_graph(self, radius: float) -> VisibilityGraph:
+        """The visibility graph for a disc of ``radius``, built once per radius."""
         cache = self.__dict__.setdefault("_graph_cache", {})
         if radius not in cache:
-            nodes = np.asarray(self._corner_nodes(radius)).reshape(-1, 2)
-            k = len(nodes)
-            a = np.repeat(nodes, k, axis=0)
-            b = np.tile(nodes, (k, 1))
-            seen = _visible_many(a, b, self._segments[4:], radius - _GRAZE).reshape(k, k)
-            between = np.where(seen, np.linalg.norm(a - b, axis=1).reshape(k, k), np.inf)
-            cache[radius] = (nodes, between)
+            cache[radius] = VisibilityGraph(self, radius)
         return cache[radius]
-
-    def _corner_nodes(self, radius: float) -> list[np.ndarray]:
-        """Points on an arc of ``radius`` around every convex corner, those clear of every wall (by 3 mm grace)."""
-        candidates = []
-        margin = radius * (1 + 1e-6)
-        for poly in self.obstacles:
-            pts = np.asarray(poly, float)
-            orientation = 1.0 if _signed_area(pts) > 0 else -1.0
-            for k in range(len(pts)):
-                prev_pt, corner, next_pt = pts[k - 1], pts[k], pts[(k + 1) % len(pts)]
-                d_in, d_out = corner - prev_pt, next_pt - corner
-                turn = orientation * (d_in[0] * d_out[1] - d_in[1] * d_out[0])
-                if turn <= 0:  # a reflex (concave) corner: shortest paths never bend there
-                    continue
-                # Outward normals of the two edges meeting at the corner; place points on the arc between them.
-                n_in = orientation * np.array([d_in[1], -d_in[0]]) / np.linalg.norm(d_in)
-                n_out = orientation * np.array([d_out[1], -d_out[0]]) / np.linalg.norm(d_out)
-                # The arc turns the way the polygon turns at a convex corner: counter-clockwise for a
-                # counter-clockwise polygon, clockwise for a clockwise one, the short way round in
-                # both cases. (A counter-clockwise sweep modulo 2*pi for every polygon went the long
-                # way round a clockwise polygon's corners and left them uncovered.)
-                a0 = math.atan2(n_in[1], n_in[0])
-                sweep = orientation * ((orientation * (math.atan2(n_out[1], n_out[0]) - a0)) % (2 * math.pi))
-                steps = max(1, math.ceil(abs(sweep) / _ARC_STEP))
-                for s in range(steps + 1):
-                    angle = a0 + sweep * s / steps
-                    candidates.append(corner + margin * np.array([math.cos(angle), math.sin(angle)]))
-        return [p for p, c in zip(candidates, self.clearances(candidates)) if c >= radius - _GRAZE]
 
 
 # ---------------------------------------------------------------------- helpers
@@ -341,11 +312,6 @@ def _as_point(value: Any, where: str) -> tuple[float, float]:
     return point
 
 
-def _signed_area(pts: np.ndarray) -> float:
-    x, y = pts[:, 0], pts[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
 def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str) -> None:
     pts = np.asarray(vertices, float)
     n = len(pts)
@@ -358,118 +324,17 @@ def _check_simple_polygon(vertices: tuple[tuple[float, float], ...], where: str)
             if j == i or (j + 1) % n == i or j == (i + 1) % n:
                 continue  # neighbouring edges share a vertex
             c, d = pts[j], pts[(j + 1) % n]
-            if _segments_intersect(a, b, c, d):
+            if segments_intersect(a, b, c, d):
                 raise ValueError(f"{where} is self-intersecting (edges {i} and {j} cross); obstacles must be simple polygons")
-    if abs(_signed_area(pts)) < 1e-9:
+    if abs(signed_area(pts)) < 1e-9:
         raise ValueError(f"{where} has zero area; give the polygon's outline, at least 3 non-collinear vertices")
 
 
-def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
-
-
-def _segments_intersect(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
-    d1, d2, d3, d4 = _cross(c, d, a), _cross(c, d, b), _cross(a, b, c), _cross(a, b, d)
-    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and d1 != 0 and d2 != 0 and d3 != 0 and d4 != 0:
-        return True
-    eps = 1e-12
-
-    def on_segment(p, q, r):  # r collinear with p-q and between them
-        return min(p[0], q[0]) - eps <= r[0] <= max(p[0], q[0]) + eps and min(p[1], q[1]) - eps <= r[1] <= max(p[1], q[1]) + eps
-
-    return (
-        (abs(d1) < eps and on_segment(c, d, a))
-        or (abs(d2) < eps and on_segment(c, d, b))
-        or (abs(d3) < eps and on_segment(a, b, c))
-        or (abs(d4) < eps and on_segment(a, b, d))
-    )
-
-
-def _point_in_polygon(x: float, y: float, poly: tuple[tuple[float, float], ...]) -> bool:
-    return bool(_points_in_polygon(np.array([[x, y]]), poly)[0])
-
-
-def _points_in_polygon(points: np.ndarray, poly: tuple[tuple[float, float], ...]) -> np.ndarray:
-    """Even-odd rule, vectorised over points."""
-    px, py = points[:, 0], points[:, 1]
-    inside = np.zeros(len(points), dtype=bool)
-    pts = np.asarray(poly, float)
-    for (x0, y0), (x1, y1) in zip(pts, np.roll(pts, -1, axis=0)):
-        crosses = (y0 > py) != (y1 > py)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x_at = x0 + (py - y0) * (x1 - x0) / (y1 - y0)
-        inside ^= crosses & (px < x_at)
-    return inside
-
-
-def _segments_distance(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray) -> np.ndarray:
-    """Distance between each segment p0[k]-p1[k] and each wall (0 where they cross): shape (K, M)."""
-    return _pair_distance(p0[:, None, :], p1[:, None, :], walls[None, :, :2], walls[None, :, 2:])
-
-
-def _pair_distance(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance between segments p-q and a-b (0 where they cross), broadcasting over leading axes."""
-
-    def cross(o, u, v):
-        return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
-
-    crossing = (np.sign(cross(a, b, p)) * np.sign(cross(a, b, q)) < 0) & (np.sign(cross(p, q, a)) * np.sign(cross(p, q, b)) < 0)
-    distance = np.minimum.reduce(
-        [_point_to_segments(p, a, b), _point_to_segments(q, a, b), _point_to_segments(a, p, q), _point_to_segments(b, p, q)]
-    )
-    return np.where(crossing, 0.0, distance)
-
-
-def _point_to_segments(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance from points to segments a-b, broadcasting over leading axes."""
-    ab = b - a
-    t = np.clip(((points - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0.0, 1.0)
-    return np.linalg.norm(points - (a + t[..., None] * ab), axis=-1)
-
-
-def _visible_many(p0: np.ndarray, p1: np.ndarray, walls: np.ndarray, radius: float) -> np.ndarray:
-    """Whether each segment p0[k]-p1[k] keeps at least ``radius`` from every wall.
-
-    Only walls whose bounding box comes within ``radius`` of a segment's bounding box can be
-    nearer than ``radius``; the exact distance is computed for those pairs only, in bounded chunks.
-    """
-    seen = np.ones(len(p0), dtype=bool)
-    if len(walls) == 0:
-        return seen
-    low, high = np.minimum(p0, p1) - radius, np.maximum(p0, p1) + radius
-    wall_low, wall_high = np.minimum(walls[:, :2], walls[:, 2:]), np.maximum(walls[:, :2], walls[:, 2:])
-    step = max(1, _CHUNK // len(walls))
-    for start in range(0, len(p0), step):
-        part = slice(start, start + step)
-        near = np.all(low[part, None] <= wall_high[None], axis=-1) & np.all(wall_low[None] <= high[part, None], axis=-1)
-        pair, wall = np.nonzero(near)
-        close = _pair_distance(p0[part][pair], p1[part][pair], walls[wall, :2], walls[wall, 2:]) < radius
-        seen[start + pair[close]] = False
-    return seen
-
-
-def _dijkstra(lengths: np.ndarray, source: int, target: int) -> float:
-    """Shortest path on a small dense graph (inf = no edge)."""
-    n = len(lengths)
-    best = np.full(n, np.inf)
-    best[source] = 0.0
-    done = np.zeros(n, dtype=bool)
-    for _ in range(n):
-        u = int(np.argmin(np.where(done, np.inf, best)))
-        if done[u] or not np.isfinite(best[u]):
-            break
-        if u == target:
-            break
-        done[u] = True
-        best = np.minimum(best, best[u] + lengths[u])
-    return float(best[target])
-
-
-def _blocks(xs: np.ndarray, ys: np.ndarray, first_row: int):
-    """The grid points (xs x ys) in blocks of whole rows, at most ``_CHUNK`` points each: (row slice, (k, 2) points)."""
+def _blocks(xs: np.ndarray, ys: np.ndarray, first_row: int) -> Iterator[tuple[slice, np.ndarray]]:
+    """The grid points (xs x ys) in blocks of whole rows, at most ``CHUNK`` points each: (row slice, (k, 2) points)."""
     if len(xs) == 0 or len(ys) == 0:
         return
-    step = max(1, _CHUNK // len(xs))
+    step = max(1, CHUNK // len(xs))
     for start in range(0, len(ys), step):
         gx, gy = np.meshgrid(xs, ys[start : start + step])
         yield slice(first_row + start, first_row + start + gx.shape[0]), np.stack([gx.ravel(), gy.ravel()], axis=1)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from hippo_env.checks import check_int
+
 _FIRST_CAPACITY = 1024
 
 
@@ -18,8 +20,8 @@ class PathRecord:
     """
 
     def __init__(self, limit: int | None) -> None:
-        if limit is not None and (not isinstance(limit, (int, np.integer)) or isinstance(limit, bool) or limit < 1):
-            raise ValueError(f"path_limit must be a positive integer (positions kept per run) or None (keep all), got {limit!r}")
+        if limit is not None:
+            check_int(limit, "path_limit", 1, "a positive integer (positions kept per run) or None (keep all)")
         self.limit = None if limit is None else int(limit)
         self._data = np.empty((0, 2))
         self._count = 0  # rows in use

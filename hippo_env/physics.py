@@ -87,7 +87,7 @@ class RobotWorld:
 
     def reset(self, position: tuple[float, float] | np.ndarray, heading: float) -> None:
         """A new robot body and shape at a pose, in place of the old ones (nothing carried over)."""
-        if self.body is not None:
+        if self.body is not None and self.shape is not None:
             self.space.remove(self.shape, self.body)
         body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0.0, self.radius))
         body.position = (float(position[0]), float(position[1]))
@@ -116,6 +116,7 @@ class RobotWorld:
         # A public world stays public; the C path only where this process can (and may) use it.
         self._calls = _pymunk_fast.choose("public" if self.pymunk_calls == "public" else None)
         self.pymunk_calls = self._calls.name
+        assert self.body is not None  # every world has a robot from its first reset on
         self._h_space, self._h_body = self._calls.handles(self.space, self.body)
 
     @property
@@ -192,6 +193,7 @@ class RobotWorld:
         if dt > self._last_dt * (1 + 1e-9):
             # pymunk would scale the contact impulses it cached in the last, shorter step by
             # dt / last dt and kick the robot through the wall: forget them.
+            assert self.shape is not None
             self.space.remove(self.shape)
             self.space.add(self.shape)
         calls = self._calls  # the calls, bound once: this loop is the simulator's hot path

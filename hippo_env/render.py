@@ -21,6 +21,7 @@ from hippo_env.maze import MazeSpec
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
 
 WALL_COLOUR = "#4a4a4a"
 FLOOR_COLOUR = "#f4f1ea"
@@ -95,11 +96,14 @@ def draw_maze(
     return ax
 
 
-def plot_maze(maze: MazeSpec | str, ax: Axes | None = None, goal: tuple[float, float] | None = None, title: str | None = None):
+def plot_maze(
+    maze: MazeSpec | str, ax: Axes | None = None, goal: tuple[float, float] | None = None, title: str | None = None
+) -> tuple[Figure | SubFigure, Axes]:
     """A figure of a maze (a spec, a built-in name or a JSON path); returns ``(fig, ax)``."""
     import matplotlib.pyplot as plt
 
     spec = MazeSpec.load(maze)
+    fig: Figure | SubFigure
     if ax is None:
         fig, ax = plt.subplots(figsize=(4, 4))
     else:
@@ -151,7 +155,7 @@ class Renderer:
             from matplotlib.figure import Figure
 
             self.fig = Figure(figsize=(size_px / 100, size_px / 100), dpi=100)
-            FigureCanvasAgg(self.fig)
+            self.canvas = FigureCanvasAgg(self.fig)
         from matplotlib.collections import LineCollection
         from matplotlib.patches import Circle
 
@@ -194,8 +198,8 @@ class Renderer:
             self.fig.canvas.draw_idle()
             plt.pause(1.0 / frame.fps)
             return None
-        self.fig.canvas.draw()
-        return np.asarray(self.fig.canvas.buffer_rgba())[..., :3].copy()
+        self.canvas.draw()
+        return np.asarray(self.canvas.buffer_rgba())[..., :3].copy()
 
     def close(self) -> None:
         if self.human:

@@ -12,6 +12,7 @@ import json
 import os
 import sys
 import traceback
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -96,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "dmtp":
             return run_dmtp_command(args)
         return run_paper_command(args)
-    except ValueError as err:
+    except (ValueError, TypeError) as err:  # a bad argument, named in the message
         print(f"hippomaze: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -203,7 +204,7 @@ def prepare_out_dir(out: Path, overwrite: bool) -> Path:
     return out
 
 
-def _collect_maps(maps: dict[str, Any]):
+def _collect_maps(maps: dict[str, Any]) -> Callable[[int, int, Any, Any], None]:
     """After trial 1's first run, sample the reward map; after its last, the place fields along its paths.
 
     Only for agents that offer ``reward_map`` / ``place_field_map`` (the hippocampal agent does).

@@ -1,6 +1,6 @@
 """One way to run many independent tasks: a local process pool, Ray, or this process.
 
-:func:`map` calls ``fn(item)`` for every item and returns the results in the items' order. As each
+:func:`map_tasks` calls ``fn(item)`` for every item and returns the results in the items' order. As each
 task finishes, the driver hands its result to ``on_result(item, result)`` (in the order they
 finish), so a caller can save it at once and skip it when run again: that makes a long run
 resumable. Every ``poll_seconds`` while tasks are running, ``on_poll(pending_items)`` is called
@@ -43,7 +43,7 @@ def shares_filesystem(engine: str, address: str = "") -> bool:
     return not (engine == "ray" and address)
 
 
-def map(
+def map_tasks(
     fn: Callable[[T], R],
     items: Iterable[T],
     *,
@@ -109,7 +109,7 @@ def _map_ray(fn: Callable[[Any], Any], items: list[Any], workers: int, address: 
     try:
         import ray
     except ImportError as err:
-        raise SystemExit(f"--engine ray needs Ray: pip install -e .[ray] ({err})") from err
+        raise ImportError(f"engine 'ray' needs Ray, which is not installed: pip install 'hippomaze[ray]' ({err})") from err
     started_here = False
     if not ray.is_initialized():
         if address:

@@ -122,7 +122,7 @@ def _takes_seed(name: str, build: Any, overrides: dict[str, Any]) -> bool:
     agent class or factory function.
 
     One without ``seed`` is accepted (the agent is then seeded only by what it does itself); one
-    that cannot take the two spaces is a one-line ``ValueError`` naming the expected signature.
+    that cannot take the two spaces is a one-line ``TypeError`` naming the expected signature.
     """
     try:
         signature = inspect.signature(build)
@@ -141,7 +141,7 @@ def _takes_seed(name: str, build: Any, overrides: dict[str, Any]) -> bool:
         if inspect.isclass(build)
         else "an agent factory must be make_agent(observation_space, action_space, *, seed)"
     )
-    raise ValueError(
+    raise TypeError(
         f"agent {name!r}: {shown}{signature} cannot be called as {shown}(observation_space, action_space, seed=seed{extra}); {expected}"
     )
 
@@ -152,7 +152,7 @@ def _declared_env_kwargs(name: str, build: Any) -> dict[str, Any]:
     if declared is None:
         return {}
     if not isinstance(declared, dict) or not all(isinstance(k, str) for k in declared):
-        raise ValueError(f"agent {name!r}: env_kwargs must be a dict of gym.make arguments, e.g. {{'odometry': True}}; got {declared!r}")
+        raise TypeError(f"agent {name!r}: env_kwargs must be a dict of gym.make arguments, e.g. {{'odometry': True}}; got {declared!r}")
     return dict(declared)
 
 
@@ -185,12 +185,14 @@ def agent_factory(name: str, **overrides: Any) -> AgentFactory:
             :mod:`hippomaze.baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
 
     Raises:
-        ValueError: An unknown name (the message lists the allowed ones) or parameter, or a
-            ``module:Class`` whose constructor cannot take ``(observation_space, action_space)``.
+        ValueError: An unknown name (the message lists the allowed ones) or parameter.
+        TypeError: A name that is not a string, a parameter of the wrong type, or a
+            ``module:Class`` that is not an agent or whose constructor cannot take
+            ``(observation_space, action_space)``.
         ImportError: ``dqn`` or ``ppo`` without torch and stable-baselines3 (the message says how to install them).
     """
     if not isinstance(name, str):
-        raise ValueError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")
+        raise TypeError(f"agent name must be a string, got {name!r}; choose one of {', '.join(AGENT_NAMES)} or module:Class")
     if name in ("hippo", "hippo-paper"):
         return _hippo(paper=name == "hippo-paper", **overrides)
     if name == "random":
@@ -224,10 +226,6 @@ def load_agent(spec: str) -> Any:
     return _checked(spec, build)
 
 
-#: The former name of :func:`load_agent`, from when only classes could be named.
-load_agent_class = load_agent
-
-
 def _load_registered(name: str, entry_point: Any) -> Any:
     """The class or factory an installed package registered as ``name`` in the ``hippomaze.agents`` group."""
     try:
@@ -242,16 +240,16 @@ def _checked(spec: str, build: Any) -> Any:
     if inspect.isclass(build):
         missing = missing_methods(build)
         if missing:
-            raise ValueError(
+            raise TypeError(
                 f"agent {spec!r} does not follow the Agent protocol: it lacks {', '.join(missing)} (see hippo_env.agent_protocol)"
             )
         return build
     if callable(build):
         return build  # a factory: the runner checks the agents it returns
-    raise ValueError(
+    raise TypeError(
         f"agent {spec!r} is a {type(build).__name__}, neither an agent class nor a factory function; name a class following the "
         "Agent protocol (see hippo_env.agent_protocol) or a factory make_agent(observation_space, action_space, *, seed)"
     )
 
 
-__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent", "load_agent_class"]
+__all__ = ["AGENT_NAMES", "ENTRY_POINT_GROUP", "PRIVILEGED", "agent_factory", "load_agent"]

@@ -25,8 +25,8 @@ def plot_indirectness(result: DMTPResult, ax: Any = None, title: str | None = No
     runs = np.arange(1, result.runs + 1)
     data = [table[:, r][np.isfinite(table[:, r])] for r in range(result.runs)]
     ax.boxplot(data, positions=runs, widths=0.5, showfliers=False)
-    jitter = np.random.default_rng(0).uniform(-0.12, 0.12, table.shape[0])
-    failed_label = "goal not reached"
+    jitter = np.asarray(np.random.default_rng(0).uniform(-0.12, 0.12, table.shape[0]))
+    failed_label: str | None = "goal not reached"
     for r in range(result.runs):
         ax.scatter(runs[r] + jitter[ok[:, r]], table[ok[:, r], r], s=12, color="tab:blue", zorder=3)
         if (~ok[:, r]).any():
@@ -57,11 +57,11 @@ def plot_length_vs_indirectness(result: DMTPResult, ax: Any = None) -> tuple[Any
         elif r.run == 1:
             second[r.trial] = r.indirectness
     ax.scatter(lengths, second, s=15)
-    r = result.summary().get("pearson_run1_length_run2_indirectness")
+    pearson = result.summary().get("pearson_run1_length_run2_indirectness")
     ax.set_xlabel("run 1 path length (m)")
     ax.set_ylabel("run 2 indirectness")
     ax.set_yscale("symlog", linthresh=1.0)
-    ax.set_title(f"Pearson r = {r:.2f}" if r is not None else "Pearson r: too few trials")
+    ax.set_title(f"Pearson r = {pearson:.2f}" if pearson is not None else "Pearson r: too few trials")
     return fig, ax
 
 

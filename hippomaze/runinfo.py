@@ -10,9 +10,12 @@ import platform
 import shlex
 import sys
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
-ArgsT = TypeVar("ArgsT")
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+ArgsT = TypeVar("ArgsT", bound="DataclassInstance")
 
 
 def cpu_model() -> str:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hippo_env.maze import MazeSpec, _points_in_polygon
+from hippo_env.geometry import points_in_polygon
+from hippo_env.maze import MazeSpec
 
 
 def free_by_brute_force(spec: MazeSpec, points: np.ndarray, radius: float) -> np.ndarray:
@@ -16,5 +17,5 @@ def free_by_brute_force(spec: MazeSpec, points: np.ndarray, radius: float) -> np
     nearest = a[None] + t[..., None] * ab[None]
     free = np.linalg.norm(points[:, None, :] - nearest, axis=-1).min(axis=1) >= radius
     for polygon in spec.obstacles:
-        free &= ~_points_in_polygon(points, polygon)
+        free &= ~points_in_polygon(points, polygon)
     return free

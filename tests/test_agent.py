@@ -66,13 +66,15 @@ def test_rejects_unsupported_action_spaces():
         HippocampalAgent(obs_space(), gym.spaces.Box(-1, 1, (2,), np.float32))  # wheels
     with pytest.raises(ValueError, match="unsupported"):
         HippocampalAgent(obs_space(), gym.spaces.Box(-1, 1, (1,), np.float32))  # not a full circle
-    with pytest.raises(ValueError, match="unsupported"):
+    with pytest.raises(TypeError, match="unsupported"):
         HippocampalAgent(obs_space(), gym.spaces.MultiDiscrete([8, 8]))
 
 
 def test_rejects_unsupported_observation_spaces():
-    with pytest.raises(ValueError, match="observation space"):
+    with pytest.raises(TypeError, match="observation space"):
         HippocampalAgent(gym.spaces.Box(0, 1, (720,)), DISCRETE)
+    with pytest.raises(TypeError, match="observation space 'heading'"):
+        HippocampalAgent(gym.spaces.Dict({"ranges": gym.spaces.Box(0, 10, (720,)), "heading": gym.spaces.Discrete(8)}), DISCRETE)
     bad = gym.spaces.Dict({"ranges": gym.spaces.Box(0, np.inf, (720,)), "heading": gym.spaces.Box(-1, 1, (2,))})
     with pytest.raises(ValueError, match="finite max range"):
         HippocampalAgent(bad, DISCRETE)
@@ -85,7 +87,6 @@ def test_rejects_unsupported_observation_spaces():
     "field, value, allowed",
     [
         ("n_place", -5, ">= 1"),
-        ("n_place", 2.5, "integer"),
         ("k", float("nan"), "finite"),
         ("k", 1.5, "(0, 1]"),
         ("trace_rate", 0.0, "(0, 1]"),
@@ -97,12 +98,20 @@ def test_rejects_unsupported_observation_spaces():
         ("dry_run_steps", -1, ">= 0"),
         ("segment_max", 2, "segment_min"),
         ("discrete_rounding", "floor", "'stochastic' or 'nearest'"),
-        ("bvc_distance_scaled", 1, "True or False"),
         ("xi", -1e-3, ">= 0"),
     ],
 )
 def test_bad_config_raises_naming_the_field(field, value, allowed):
     with pytest.raises(ValueError) as err:
+        AgentConfig(**{field: value})
+    assert f"AgentConfig.{field}=" in str(err.value) and allowed in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "field, value, allowed", [("n_place", 2.5, "an integer"), ("bvc_distance_scaled", 1, "True or False"), ("k", "0.5", "number")]
+)
+def test_config_of_the_wrong_type_raises_type_error(field, value, allowed):
+    with pytest.raises(TypeError) as err:
         AgentConfig(**{field: value})
     assert f"AgentConfig.{field}=" in str(err.value) and allowed in str(err.value)
 
@@ -114,7 +123,7 @@ def test_config_round_trips_through_dict_and_rejects_unknown_keys():
         AgentConfig.from_dict({"n_cells": 3})
     with pytest.raises(dataclasses.FrozenInstanceError):
         cfg.n_place = 5  # frozen
-    with pytest.raises(ValueError, match="config must be an AgentConfig"):
+    with pytest.raises(TypeError, match="config must be an AgentConfig"):
         HippocampalAgent(obs_space(), DISCRETE, config={"n_place": 3})
 
 

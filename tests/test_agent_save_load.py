@@ -137,6 +137,30 @@ def test_round_trip_mid_run_continues_identically(tmp_path):
     assert [agent.act(obs) for _ in range(50)] == [loaded.act(obs) for _ in range(50)]
 
 
+#: AgentConfig fields added after agent files of format version 4 were first written.
+LATER_FIELDS = (
+    "sweep_patience", "recruit_every", "recruit_min", "map_free_range", "map_hit_range", "map_ray_stride_deg",
+    "map_agreement_stride_deg", "map_bump_distance", "map_fit_rate", "pi_min_mass", "pi_vote_floor", "pi_min_mapped", "pi_resample_ess",
+)  # fmt: skip
+
+
+def test_a_file_whose_config_lacks_later_fields_loads_with_their_defaults(tmp_path):
+    env, agent = trained_agent()
+    path = tmp_path / "agent.npz"
+    agent.save(path)
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(str(arrays["__meta__"]))
+    for name in LATER_FIELDS:
+        del meta["config"][name]
+    arrays["__meta__"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "older.npz", **arrays)
+    loaded = HippocampalAgent.load(tmp_path / "older.npz")
+    assert loaded.config == agent.config == AgentConfig(n_place=300, dry_run_steps=0)
+    obs = env.obs()
+    assert [agent.act(obs) for _ in range(50)] == [loaded.act(obs) for _ in range(50)]
+
+
 def test_corrupt_truncated_and_foreign_files_raise_value_error(tmp_path):
     _, agent = trained_agent()
     good = tmp_path / "good.npz"

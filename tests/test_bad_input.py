@@ -1,4 +1,5 @@
-"""Every bad input raises ValueError with a message that names the problem."""
+"""Every bad input raises an error whose message names the problem: TypeError for a wrong type,
+ValueError for a wrong value (anything wrong in a maze file is a value)."""
 
 from __future__ import annotations
 
@@ -36,8 +37,12 @@ def test_unknown_maze_name():
 
 
 def test_wrong_maze_type():
-    with pytest.raises(ValueError, match="built-in name"):
+    with pytest.raises(TypeError, match="built-in name"):
         MazeSpec.load(42)
+    with pytest.raises(TypeError, match="a maze must be a JSON object"):
+        MazeSpec.from_dict([1, 2, 3])
+    with pytest.raises(TypeError, match="'name' must be a non-empty string"):
+        MazeSpec(name=5, size=(10.0, 10.0))
 
 
 def test_unreadable_file(tmp_path):
@@ -154,7 +159,6 @@ def test_goal_in_maze_file_inside_obstacle(tmp_path):
         ({"reward_type": "shaped"}, "reward_type 'shaped' is unknown; choose one of sparse, dense"),
         ({"render_mode": "ascii"}, "render_mode 'ascii' is unknown; choose None or one of human, rgb_array"),
         ({"n_rays": 0}, "n_rays must be a positive integer"),
-        ({"n_rays": 2.5}, "n_rays must be a positive integer"),
         ({"max_range": -1.0}, "max_range must be a positive number"),
         ({"range_noise": -0.1}, "range_noise must be a finite number >= 0"),
         ({"goal_radius": 0.0}, "goal_radius must be positive"),
@@ -163,6 +167,22 @@ def test_goal_in_maze_file_inside_obstacle(tmp_path):
 )
 def test_bad_constructor_argument(kwargs, message):
     with pytest.raises(ValueError, match=message):
+        HippoMazeEnv(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs,message",
+    [
+        ({"n_rays": 2.5}, "n_rays must be a positive integer, got 2.5"),
+        ({"max_range": "far"}, "max_range must be a positive number"),
+        ({"range_noise": True}, "range_noise must be a finite number >= 0"),
+        ({"odometry": "yes"}, "odometry must be True or False"),
+        ({"goal_seed": 1.5}, "goal_seed must be a non-negative integer"),
+        ({"path_limit": 2.5}, "path_limit must be a positive integer"),
+    ],
+)
+def test_constructor_argument_of_the_wrong_type(kwargs, message):
+    with pytest.raises(TypeError, match=message):
         HippoMazeEnv(**kwargs)
 
 
@@ -203,9 +223,9 @@ def test_start_option_malformed_or_in_goal(env):
         env.reset(options={"goal": [2.0, 2.0], "start": [2.1, 2.0]})
 
 
-@pytest.mark.parametrize("heading", ["north", math.nan, None, [0.0]])
-def test_heading_option_bad(env, heading):
-    with pytest.raises(ValueError, match="reset option 'heading' must be a finite angle"):
+@pytest.mark.parametrize("heading,error", [("north", TypeError), (math.nan, ValueError), (None, TypeError), ([0.0], TypeError)])
+def test_heading_option_bad(env, heading, error):
+    with pytest.raises(error, match="reset option 'heading' must be a finite angle"):
         env.reset(options={"heading": heading})
 
 

@@ -22,7 +22,7 @@ def ring_scan(n_rays: int = 720, radius: float = 2.0) -> np.ndarray:
 
 
 def test_scan_marks_free_ground_and_walls():
-    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
     free = m.known_free
     for x, y in [(0.0, 0.0), (1.0, 0.0), (0.0, -1.5), (-1.0, 1.0)]:
@@ -35,7 +35,7 @@ def test_scan_marks_free_ground_and_walls():
 
 
 def test_planner_goes_to_unvisited_ground_until_none_is_left():
-    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
     assert m.heading_to_unvisited(np.zeros(2)) is not None
     # stand everywhere in the room: nothing unvisited is left
@@ -50,7 +50,7 @@ def test_planner_goes_to_unvisited_ground_until_none_is_left():
 
 
 def test_walkable_points_lie_on_known_ground_clear_of_walls():
-    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     assert m.walkable_points().shape == (0, 2)  # nothing known yet
     m.observe(np.zeros(2), 0.0, ring_scan(radius=2.0), max_range=10.0)
     points = m.walkable_points()
@@ -62,7 +62,7 @@ def test_walkable_points_lie_on_known_ground_clear_of_walls():
 
 
 def test_path_goes_around_a_wall():
-    m = ExplorationMap(extent=5.0, cell=0.25, visit_radius=0.5, search_radius=0.3, lookahead=0.75)
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.free[:] = 1  # all free ...
     i0, i1 = m.index(0.0, -3.0)[1], m.index(0.0, 2.0)[1]
     m.hits[m.index(0.0, 0.0)[0], i0:i1] = 5  # ... but a wall along x = 0 from y = -3 to y = 2

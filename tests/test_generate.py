@@ -418,15 +418,15 @@ def test_bad_kind_names_allowed_kinds():
         generate_maze(0, "spiral")
 
 
-@pytest.mark.parametrize("seed", [-1, 1.5, "3", True, None])
-def test_bad_seed(seed):
-    with pytest.raises(ValueError, match="seed must be a non-negative integer"):
+@pytest.mark.parametrize("seed,error", [(-1, ValueError), (1.5, TypeError), ("3", TypeError), (True, TypeError), (None, TypeError)])
+def test_bad_seed(seed, error):
+    with pytest.raises(error, match="seed must be a non-negative integer"):
         generate_maze(seed)
 
 
-@pytest.mark.parametrize("size", [4.0, 41.0, math.nan, "10"])
-def test_bad_size(size):
-    with pytest.raises(ValueError, match="size must be"):
+@pytest.mark.parametrize("size,error", [(4.0, ValueError), (41.0, ValueError), (math.nan, ValueError), ("10", TypeError)])
+def test_bad_size(size, error):
+    with pytest.raises(error, match="size must be"):
         generate_maze(0, size=size)
 
 
@@ -440,8 +440,6 @@ def test_arena_kind_needs_7_m():
     [
         ("perfect", 10.0, 1, "cells must be an integer from 2 to 8 for kind 'perfect', got 1"),
         ("perfect", 20.0, 9, "cells must be an integer from 2 to 8 for kind 'perfect', got 9"),
-        ("perfect", 10.0, 2.5, "cells must be an integer from 2 to 8"),
-        ("perfect", 10.0, True, "cells must be an integer from 2 to 8"),
         ("perfect", 5.0, 5, r"cells=5 is too many for a 5 m arena: a cell would be 1.00 m, less than the 1.25 m .* \(at most 4\)"),
         ("rooms", 10.0, 4, "cells must be an integer from 2 to 3 for kind 'rooms', got 4"),
         ("rooms", 7.0, 3, r"cells=3 is too many for a 7 m arena: a room would be 2.33 m, less than the 2.5 m"),
@@ -453,6 +451,12 @@ def test_arena_kind_needs_7_m():
 def test_bad_cells(kind, size, cells, message):
     with pytest.raises(ValueError, match=message):
         generate_maze(0, kind, size=size, cells=cells)
+
+
+@pytest.mark.parametrize("cells", [2.5, True, "3"])
+def test_cells_of_the_wrong_type(cells):
+    with pytest.raises(TypeError, match="cells must be an integer from 2 to 8"):
+        generate_maze(0, "perfect", cells=cells)
 
 
 # ---------------------------------------------------------------------- command line

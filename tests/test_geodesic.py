@@ -167,7 +167,7 @@ def test_geodesic_case_count(capsys):
 
 
 def test_clockwise_triangle_corner_from_the_issue():
-    """The issue's example: a clockwise triangle's acute corner must be rounded, not cut (was inf)."""
+    """The issue's example: a clockwise triangle's acute corner must be rounded, not cut."""
     wall = [[-5.0, 3.0], [-0.5, 3.0], [-0.5, 3.2], [-5.0, 3.2]]
     triangle = [[-1.0, 3.6], [0.0, 4.4], [1.0, 3.6]]  # clockwise
     start, goal = (-3.3, 4.1), (-3.3, 0.0)

@@ -62,7 +62,7 @@ def test_unbounded_when_asked():
     assert len(record) == 3001 and record.array()[-1, 0] == 2999.0
 
 
-@pytest.mark.parametrize("bad", [0, -5, 2.5, True, "10"])
-def test_bad_path_limit_is_a_clear_error(bad):
-    with pytest.raises(ValueError, match="path_limit must be a positive integer"):
+@pytest.mark.parametrize("bad,error", [(0, ValueError), (-5, ValueError), (2.5, TypeError), (True, TypeError), ("10", TypeError)])
+def test_bad_path_limit_is_a_clear_error(bad, error):
+    with pytest.raises(error, match="path_limit must be a positive integer"):
         gym.make("HippoMaze-v0", path_limit=bad)

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 import hippomaze.paper
+from hippo_env.geometry import convex_hull_area
 from hippomaze.paper import PaperArgs, parse_args, run_paper
-from hippomaze.paper.analysis import analyse_fields, components, hull_area
+from hippomaze.paper.analysis import analyse_fields, components
 from hippomaze.paper.design import SCENARIOS, trial_seed
 from hippomaze.paper.figures import FIGURES
 from hippomaze.paper.geometry import geodesic_to, grid_for
@@ -113,7 +114,7 @@ def test_components_hull_and_rank_helpers():
     pieces = components(grid, np.concatenate([left, right]))
     assert sorted(len(p) for p in pieces) == sorted([len(left), len(right)])
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]], float)
-    assert hull_area(square) == pytest.approx(1.0)
+    assert convex_hull_area(square) == pytest.approx(1.0)
     x = np.arange(10.0)
     assert spearman(x, x**3) == pytest.approx(1.0)
     assert spearman(x, -x) == pytest.approx(-1.0)

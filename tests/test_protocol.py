@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from hippomaze.baselines import RandomAgent
 
-from hippo_env.dmtp import DMTPFailed, DMTPResult, Run, run_dmtp
-from hippomaze.registry import load_agent_class
+from hippo_env.dmtp import DMTPFailed, DMTPResult, run_dmtp
+from hippomaze.registry import load_agent
 
 RUN_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_path_length", "indirectness", "start", "goal"}
 # The documented keys, and those that reproduce the run.
@@ -134,70 +134,31 @@ def test_placing_a_goal_during_the_dry_run_is_refused(agent):
     assert isinstance(failed.value.__cause__, ValueError)
 
 
-class OldStyleAgent(RandomAgent):
-    """An agent written before the dry run's rename: it defines only ``prepare``."""
-
-    def prepare(self, env):
-        env.reset()
-        for _ in range(DryRunningAgent.DRY_RUN_STEPS):
-            env.step(self.act(None))
-
-
-def test_an_agent_with_only_prepare_still_gets_its_dry_run_with_a_deprecation_warning():
-    from hippo_env.agent_protocol import AgentBase
-
-    class OldStyleBaseAgent(AgentBase):  # AgentBase's no-op dry_run does not hide the agent's own prepare
-        prepare = OldStyleAgent.prepare
-
-        def reset(self, observation, info):
-            pass
-
-        def act(self, observation):
-            return 0
-
-        def observe(self, action, observation, reward, terminated, truncated, info):
-            pass
-
-    for agent in (OldStyleAgent, OldStyleBaseAgent):
-        with pytest.warns(DeprecationWarning, match=f"{agent.__name__}.prepare is the dry run's former name: rename it dry_run"):
-            result = run_dmtp(agent, maze="open", seed=1, **TINY)
-        assert result.env_steps_total == 2 * DryRunningAgent.DRY_RUN_STEPS + sum(r.steps for r in result.run_records)
-
-
-def test_the_former_names_still_work_with_a_deprecation_warning(random_result):
-    import hippo_env.dmtp
-
-    with pytest.warns(DeprecationWarning, match="use run_records"):
-        assert random_result.episodes is random_result.run_records
-    with pytest.warns(DeprecationWarning, match="use Run"):
-        assert hippo_env.dmtp.Episode is Run
-
-
 def test_agent_missing_methods_is_refused():
     with pytest.raises(DMTPFailed, match="NotAnAgent does not follow the Agent protocol: it lacks reset, observe") as failed:
         run_dmtp(lambda o, a, seed=None: NotAnAgent(), maze="open", seed=0, **TINY)
     assert isinstance(failed.value.__cause__, TypeError)
 
 
-@pytest.mark.parametrize("value", [0, -1, 1.5, "2"])
-def test_bad_trials_or_runs(value):
-    with pytest.raises(ValueError, match="trials must be a positive integer"):
+@pytest.mark.parametrize("value,error", [(0, ValueError), (-1, ValueError), (1.5, TypeError), ("2", TypeError)])
+def test_bad_trials_or_runs(value, error):
+    with pytest.raises(error, match="trials must be a positive integer"):
         run_dmtp(RandomAgent, trials=value, runs=1, progress=False)
-    with pytest.raises(ValueError, match="runs must be a positive integer"):
+    with pytest.raises(error, match="runs must be a positive integer"):
         run_dmtp(RandomAgent, trials=1, runs=value, progress=False)
 
 
-def test_load_agent_class():
-    assert load_agent_class("hippomaze.baselines:RandomAgent") is RandomAgent
-    assert load_agent_class("hippomaze.baselines.random_agent:RandomAgent") is RandomAgent
+def test_load_agent():
+    assert load_agent("hippomaze.baselines:RandomAgent") is RandomAgent
+    assert load_agent("hippomaze.baselines.random_agent:RandomAgent") is RandomAgent
     with pytest.raises(ValueError, match="agent 'greedy' is unknown; give hippo, random, dqn, ppo, or module:Class"):
-        load_agent_class("greedy")
+        load_agent("greedy")
     with pytest.raises(ValueError, match="cannot import module 'no_such_module_xyz'"):
-        load_agent_class("no_such_module_xyz:Agent")
+        load_agent("no_such_module_xyz:Agent")
     with pytest.raises(ValueError, match="module 'hippomaze.baselines' has no attribute 'Nope'"):
-        load_agent_class("hippomaze.baselines:Nope")
-    with pytest.raises(ValueError, match="does not follow the Agent protocol: it lacks reset, act, observe"):
-        load_agent_class("json:JSONDecoder")
+        load_agent("hippomaze.baselines:Nope")
+    with pytest.raises(TypeError, match="does not follow the Agent protocol: it lacks reset, act, observe"):
+        load_agent("json:JSONDecoder")
 
 
 def test_agent_base_gives_the_optional_hooks():

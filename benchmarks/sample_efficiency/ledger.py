@@ -36,7 +36,7 @@ class Ledger:
 
     def __getattr__(self, name: str) -> Any:
         if name == "dry_run" and not self.skip_dry_run:
-            agent_dry_run = dry_run_method(self.agent)  # the agent's own, or its deprecated ``prepare``
+            agent_dry_run = dry_run_method(self.agent)
             if agent_dry_run is not None:
 
                 def dry_run(env: Any) -> None:

@@ -73,7 +73,7 @@ def run_jobs(jobs: list[Job], args: Args, out: Path) -> dict[str, JobRecord]:
         # a job on a Ray cluster cannot write its progress where the driver reads it
         local_files = engine.shares_filesystem(args.engine, args.address)
         tasks = [(job, str(progress_path(job)) if local_files else None) for job in todo]
-        engine.map(run_job_task, tasks, engine=args.engine, workers=args.workers, address=args.address,
+        engine.map_tasks(run_job_task, tasks, engine=args.engine, workers=args.workers, address=args.address,
                    on_result=lambda task, record: finished(task[0], record), on_poll=lambda running: poll([job for job, _ in running]))  # fmt: skip
     for b in (steps_bar, bar):
         if b is not None:

@@ -5,9 +5,9 @@ method's comments, touching only the cells that matter (active, traced, holding 
 BVCs), in plain IEEE arithmetic: no fused multiply-adds, no fast-math reordering of sums. ``exp``
 and ``tanh`` are libm's (scalar), called only where the result is needed; where thousands of
 exponentials are needed at once (the BVCs' radial Gaussians, the path integrator's vote) a kernel
-writes the exponents and NumPy's vectorised ``exp``, about 4x faster per value, takes them.
-The per-step kernels write into arrays they are given rather than return new ones (handing an
-array back to Python costs about 0.65 us). ``error_model="numpy"``: a division by 0 gives inf or
+writes the exponents and NumPy's vectorised ``exp``, faster per value, takes them.
+The per-step kernels write into arrays they are given rather than return new ones (handing a new
+array back to Python costs more than many of the updates themselves). ``error_model="numpy"``: a division by 0 gives inf or
 nan, as in NumPy, not an exception.
 """
 
@@ -28,7 +28,7 @@ def _maximum0(x):  # pragma: no cover - compiled
 @njit(cache=True, error_model="numpy")
 def _tanh_positive(x):  # pragma: no cover - compiled
     """``x = tanh(x)`` where ``x > 0``. A pass of its own: inside a loop doing more, the compiler
-    evaluated tanh on every element, which made eq. 4's update 6x slower at 1000 cells."""
+    evaluates tanh on every element, silent cells included."""
     for i in range(x.size):
         if x[i] > 0.0:
             x[i] = math.tanh(x[i])
@@ -57,7 +57,7 @@ def bvc_drive(W_bp, b, out):  # pragma: no cover - compiled
     product would) over the rows of the BVCs with ``b_c > 0`` only, in BVC order; returns ``sum(b)``.
 
     Four firing rows are added per pass over the cells: the same sums in the same order as one pass
-    per row, with the partial sums read and written a quarter as often (1.6x faster alone at 10,000 cells)."""
+    per row, with the partial sums read and written a quarter as often."""
     firing = np.empty(b.size, np.int64)
     b32 = np.empty(b.size, np.float32)
     n_firing = 0

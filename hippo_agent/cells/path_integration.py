@@ -32,8 +32,9 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
     anchor_radius: samples within this distance (m) of the best one form its cluster.
     anchor_weight: the cluster's share of the weight at which a lost estimate counts as anchored.
     redraw_fraction: while lost, this share of the samples is drawn afresh from the vote each step.
-    lost_vote_floor: while lost, the vote's floor (:data:`VOTE_FLOOR` once anchored): the vote
-        is weaker evidence then, so that places it does not propose but a map fits can win.
+    lost_vote_floor: while lost, the vote's floor (``None``: ``vote_floor``, as once anchored): a
+        higher one makes the vote weaker evidence, so that places it does not propose but a map
+        fits can win.
     proposal_share: while lost, this share of the redrawn samples comes from :meth:`correct`'s
         ``proposals`` (when given) instead of the vote.
     collapse_on_anchor: on anchoring, drop the samples outside the anchored cluster
@@ -41,6 +42,9 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
     min_anchor_steps: a lost estimate is not anchored before this many corrections, so that
         evidence that accumulates (a map's fit, :meth:`correct`'s ``likelihood``) can single out
         one of several look-alike places.
+    vote_floor: the likelihood of a sample far from every voted centre (never exactly 0).
+    min_mapped: once anchored, a vote from a place mapped less than this is ignored (:meth:`correct`).
+    resample_ess: resample when the effective number of samples falls below this share of them.
     lag: the place rates lag the input by this many steps (``(1 - k) / k`` for eq. 3's Euler update),
         so the vote is compared with where each sample was that many steps ago (``lag`` times the
         last step back), and cells learn their centres there too (:meth:`lagged_estimate`).
@@ -58,9 +62,6 @@ from hippo_agent.cells import _kernels
 
 __all__ = ["PathIntegrator"]
 
-VOTE_FLOOR = 1e-3  # likelihood of a sample far from every voted centre (never exactly 0)
-MIN_MAPPED = 0.8  # see PathIntegrator.correct
-
 
 class PathIntegrator:
     """A self-localising path integrator (see the module docstring)."""
@@ -77,8 +78,11 @@ class PathIntegrator:
         anchor_weight: float,
         redraw_fraction: float,
         lag: float,
-        min_anchor_steps: int = 0,
-        lost_vote_floor: float = VOTE_FLOOR,
+        min_anchor_steps: int,
+        vote_floor: float,
+        min_mapped: float,
+        resample_ess: float,
+        lost_vote_floor: float | None = None,
         proposal_share: float = 0.0,
         collapse_on_anchor: bool = False,
     ) -> None:
@@ -99,11 +103,13 @@ class PathIntegrator:
         self.fresh = False  # kidnapped and no sample drawn from the vote yet
         self.lag = float(lag)
         self.min_anchor_steps = int(min_anchor_steps)
-        self.lost_vote_floor = float(lost_vote_floor)
+        self.lost_vote_floor = float(vote_floor if lost_vote_floor is None else lost_vote_floor)
         self.proposal_share = float(proposal_share)
         self.collapse_on_anchor = bool(collapse_on_anchor)
         self.lost_steps = 0  # corrections since the estimate was last lost
-        self.min_mapped = MIN_MAPPED
+        self.min_mapped = float(min_mapped)
+        self.vote_floor = float(vote_floor)
+        self.resample_ess = float(resample_ess)
         self.last_step = np.zeros(2)
         self._noise = np.zeros((self.n_particles, 2))  # scratch: one step's motion noise
 
@@ -172,10 +178,10 @@ class PathIntegrator:
             vote_var = self.vote_sigma**2
             gauss = np.empty((self.n_particles, rates.size))
             _kernels.vote_exponents(self.particles, self.lag, self.last_step, centres, spreads, vote_var, gauss)
-            np.exp(gauss, out=gauss)  # (NumPy's vectorised exp: 4x faster than one call per value)
-            floor = VOTE_FLOOR if self.anchored else self.lost_vote_floor
+            np.exp(gauss, out=gauss)  # NumPy's vectorised exp, over the whole block at once
+            floor = self.vote_floor if self.anchored else self.lost_vote_floor
             ess = _kernels.reweigh(gauss, rates, spreads, vote_var, floor, self.weights)
-            if ess < 0.5 * self.n_particles:
+            if ess < self.resample_ess * self.n_particles:
                 self._resample()
         if not self.anchored:
             self.lost_steps += 1
@@ -183,7 +189,7 @@ class PathIntegrator:
         if more is not None:
             self.weights *= more
             self.weights /= self.weights.sum()
-            if 1.0 / np.sum(self.weights**2) < 0.5 * self.n_particles:
+            if 1.0 / np.sum(self.weights**2) < self.resample_ess * self.n_particles:
                 self._resample()
         self._summarise()
 

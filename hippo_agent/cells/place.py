@@ -23,9 +23,9 @@ class PlaceCells:
     on a learning step; many cells never fire) get a *slot*, and the weights live in a dense
     float32 block ``W_slots[slot_j, k, slot_i]`` over slots, pre-synaptic first, grown by
     doubling. Every other entry of the full tensor is exactly zero, so this is the full tensor,
-    not an approximation, and its memory grows with the cells that learn rather than with N^2
-    (the README's speed section has the figures). Pre-synaptic-first storage makes everything the few active cells drive (preplay,
-    replay) one contiguous row gather. :meth:`W_pp_slice` gives the paper's ``W^pp_k`` as a full
+    not an approximation, and its memory grows with the cells that learn rather than with N^2.
+    Pre-synaptic-first storage makes everything the few active cells drive (preplay, replay) one
+    contiguous row gather. :meth:`W_pp_slice` gives the paper's ``W^pp_k`` as a full
     ``(i, j)`` matrix and :attr:`W_pp` the full ``(j, k, i)`` tensor (copies, for analysis).
 
     Every update touches only the cells that matter: Oja only the rows of active cells (a silent
@@ -52,6 +52,8 @@ class PlaceCells:
         trace_rate, hd_trace_rate, trace_floor: eq. 6 trace rates and floor.
         eta_pp: eq. 7 rate.
     """
+
+    W_bp: np.ndarray  # the BVC -> place weights, BVC-first (set through :attr:`W_pb`)
 
     def __init__(
         self,

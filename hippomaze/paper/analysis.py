@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from hippo_env.dmtp import DMTPResult
+from hippo_env.geometry import convex_hull_area
 
 from .geometry import Grid, distance_to_path, geodesic_to
 from .results import DMTPSummary, FieldCell, FieldSummary, MapStats
@@ -62,30 +63,6 @@ def map_stats(maze: str, positions: np.ndarray, values: np.ndarray, goal: Any, e
 
 
 # -------------------------------------------------------------------------------- place fields
-def _cross(u: np.ndarray, v: np.ndarray) -> float:
-    return float(u[0] * v[1] - u[1] * v[0])
-
-
-def hull_area(points: np.ndarray) -> float:
-    """Area of the convex hull (Andrew's monotone chain)."""
-    pts = np.unique(np.round(points, 9), axis=0)
-    if len(pts) < 3:
-        return 0.0
-    pts = pts[np.lexsort((pts[:, 1], pts[:, 0]))]
-
-    def half(seq: np.ndarray) -> list[np.ndarray]:
-        out: list[np.ndarray] = []
-        for p in seq:
-            while len(out) >= 2 and _cross(out[-1] - out[-2], p - out[-2]) <= 0:
-                out.pop()
-            out.append(p)
-        return out
-
-    hull = np.array(half(pts)[:-1] + half(pts[::-1])[:-1])
-    x, y = hull[:, 0], hull[:, 1]
-    return float(0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
-
-
 def components(grid: Grid, members: np.ndarray) -> list[np.ndarray]:
     """4-connected pieces of a set of grid positions (indices into ``grid.positions``)."""
     rows, cols = grid.shape
@@ -138,7 +115,7 @@ def analyse_fields(grid: Grid, rates: np.ndarray) -> list[FieldCell]:
         substantial = [t for t in info if t[0] >= COMPONENT_MIN_MASS]
         main = info[0][1]
         main_pts = grid.positions[main]
-        hull = hull_area((main_pts[:, None, :] + corners[None]).reshape(-1, 2))
+        hull = convex_hull_area((main_pts[:, None, :] + corners[None]).reshape(-1, 2))
         quadrants = {int(c[0] > 0) + 2 * int(c[1] > 0) for _, _, c in substantial}
         halves = {int(c[0] > 0) for _, _, c in substantial}
         folded = _compartment_coords(np.array([c for _, _, c in substantial]))
@@ -187,7 +164,7 @@ def summarise_fields(cells: list[FieldCell], n_cells: int, arena_area: float) ->
 
 def random_examples(cells: list[FieldCell], count: int, rng: np.random.Generator) -> list[int]:
     """``count`` cells drawn at random among those with a field: examples not picked for shape."""
-    chosen = rng.choice(len(cells), size=min(count, len(cells)), replace=False) if cells else []
+    chosen: np.ndarray | list[int] = rng.choice(len(cells), size=min(count, len(cells)), replace=False) if cells else []
     return sorted(cells[i].cell for i in chosen)
 
 

@@ -113,6 +113,6 @@ def parse_args(argv: list[str] | None = None) -> PaperArgs:
         elif f.type == "int | None":
             parser.add_argument(flag, type=int, default=f.default, help=f"(default: {f.default})")
         else:
-            kind = {"int": int, "float": float, "str": str}[f.type]
+            kind = {"int": int, "float": float, "str": str}[str(f.type)]
             parser.add_argument(flag, type=kind, default=f.default, help=f"(default: {f.default})")
     return PaperArgs(**vars(parser.parse_args(argv)))

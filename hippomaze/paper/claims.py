@@ -7,6 +7,7 @@ them in the order of the table.
 from __future__ import annotations
 
 import math
+from typing import TypeVar
 
 import numpy as np
 
@@ -17,21 +18,29 @@ from .formatting import fmt
 from .results import Claim, GoalResult, PaperData
 from .statistics import median_or_none
 
+T = TypeVar("T")
+
 FIG_REWARD_MAPS = "fig2a_reward_maps_open.png, fig2b_reward_maps_mazes.png"
 FIG_MAZES = "fig3b_same_start_mazes.png, fig8_mazes_indirectness.png"
 
 
-def verdict(ok: bool, partly: bool) -> str:
+def verdict(ok: bool | np.bool_, partly: bool | np.bool_) -> str:
     return "reproduced" if ok else ("partly" if partly else "not reproduced")
+
+
+def known(value: T | None) -> T:
+    """A summary's statistic that is present: every one is, once the maze has a cell with a field."""
+    assert value is not None
+    return value
 
 
 # ------------------------------------------------------------------------------- 1. place fields
 def place_fields_claim(data: PaperData) -> Claim:
     fields = data.place_fields
     plain = [m for m in ("open", "maze1", "maze2") if m in fields and fields[m].with_field]
-    single = [fields[m].single_piece for m in plain]
-    solid = [fields[m].median_solidity_main_piece for m in plain]
-    share = [fields[m].median_area_share for m in plain]
+    single = [known(fields[m].single_piece) for m in plain]
+    solid = [known(fields[m].median_solidity_main_piece) for m in plain]
+    share = [known(fields[m].median_area_share) for m in plain]
     measured = "; ".join(
         f"{m}: {fields[m].with_field} of {fields[m].cells} cells have a field, {fmt(fields[m].single_piece, pct=True)} in one piece, "
         f"median {fields[m].median_area_m2:.2f} m^2, solidity {fields[m].median_solidity_main_piece:.2f}"
@@ -229,8 +238,9 @@ def alike_compartments_claim(mazes: MazeOutcomes) -> Claim:
     easy = [mazes.later(m) for m in ("maze1", "maze2")]
     hard, easy_max = mazes.later("maze4"), max((v for v in easy if v is not None), default=None)
     worse = hard is not None and easy_max is not None and hard > easy_max
-    rates = [mazes.rate(m) for m in ("maze1", "maze2")]
-    fails = mazes.rate("maze4") is not None and all(r_ is not None for r_ in rates) and mazes.rate("maze4") < min(rates)
+    rates = [r_ for r_ in (mazes.rate(m) for m in ("maze1", "maze2")) if r_ is not None]
+    rate4 = mazes.rate("maze4")
+    fails = rate4 is not None and len(rates) == 2 and rate4 < min(rates)
     return Claim(
         id="M3",
         experiment="3/4 mazes",
@@ -313,8 +323,8 @@ def aliasing_claim(data: PaperData) -> Claim | None:
     a4, a0 = data.place_fields["maze4"], data.place_fields["open"]
     if not (a4.with_field and a0.with_field):
         return None
-    hist = a4.quadrants_hist
-    frac, control, similar = a4.multi_quadrant, a0.multi_quadrant, a4.multi_quadrant_similar_place
+    hist = known(a4.quadrants_hist)
+    frac, control, similar = known(a4.multi_quadrant), known(a0.multi_quadrant), known(a4.multi_quadrant_similar_place)
     return Claim(
         id="A1",
         experiment="7 aliasing",
@@ -335,14 +345,15 @@ def alike_cups_claim(data: PaperData) -> Claim | None:
     a3, a0 = data.place_fields["maze3"], data.place_fields["open"]
     if not (a3.with_field and a0.with_field):
         return None
+    both, control = known(a3.multi_half), known(a0.multi_half)
     return Claim(
         id="A2",
         experiment="7 aliasing",
         paper="(beyond the paper) maze3's two alike cups: cells with fields in both halves.",
-        measured=f"maze3 {fmt(a3.multi_half, pct=True)} of fields in both halves "
+        measured=f"maze3 {fmt(both, pct=True)} of fields in both halves "
         f"({fmt(a3.multi_half_similar_place, pct=True)} at similar places); "
-        f"open-arena control {fmt(a0.multi_half, pct=True)}",
-        verdict=verdict(a3.multi_half >= 0.05 and a3.multi_half >= 3 * a0.multi_half, a3.multi_half > a0.multi_half),
+        f"open-arena control {fmt(control, pct=True)}",
+        verdict=verdict(both >= 0.05 and both >= 3 * control, both > control),
         criterion="reproduced if >= 5 % and >= 3x the open arena; partly if more than the control",
         figure="fig1_place_fields.png",
     )

@@ -125,6 +125,7 @@ def fig_reward_maps(entries: list[tuple[str, TrialResult]], out: Path, name: str
     for col, (label, entry) in enumerate(entries):
         spec = MazeSpec.load(entry.maze)
         mp = entry.map
+        assert mp is not None  # the entries are the trials whose map was sampled
         plot_trajectories(
             [mp.run1_path],
             axes[0, col],
@@ -226,7 +227,7 @@ def fig_generalisation(gen: dict[str, GeneralisationResult], out: Path) -> Path:
                 continue
             goal = g.goals[row - 1]
             plot_reward_map(g.positions, goal.values, ax, maze=spec, colorbar=False, gridsize=30)
-            ax.add_patch(Circle(tuple(goal.goal), 0.3, facecolor="none", edgecolor="lime", lw=2.5, zorder=6))
+            ax.add_patch(Circle((goal.goal[0], goal.goal[1]), 0.3, facecolor="none", edgecolor="lime", lw=2.5, zorder=6))
             where = "visited" if goal.visited else f"{goal.distance_to_explored:.1f} m from explored"
             ok = sum(n.success for n in goal.nav)
             ind = median_or_none(n.indirectness for n in goal.nav)

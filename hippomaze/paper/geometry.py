@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from hippo_env.geometry import DistanceField
+from hippo_env.geodesic import DistanceField
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
 

@@ -30,7 +30,7 @@ ONE_BLAS_THREAD = {k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "
 
 
 def run_tasks(tasks: list[Task], workers: int, progress: bool) -> tuple[dict[str, Any], dict[str, float]]:
-    """Run every task (in ``workers`` processes, on :func:`hippomaze.engine.map`); results by task
+    """Run every task (in ``workers`` processes, on :func:`hippomaze.engine.map_tasks`); results by task
     name, independent of the order."""
     from tqdm.auto import tqdm
 
@@ -41,7 +41,7 @@ def run_tasks(tasks: list[Task], workers: int, progress: bool) -> tuple[dict[str
         bar.update(1)
 
     order = sorted(tasks, key=lambda t: -t.cost)  # the long ones first
-    outs = engine.map(
+    outs = engine.map_tasks(
         _timed, order, engine="serial" if workers <= 1 else "local", workers=workers, on_result=finished, worker_env=ONE_BLAS_THREAD
     )
     bar.close()

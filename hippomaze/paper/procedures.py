@@ -14,6 +14,7 @@ import numpy as np
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_env.dmtp import rollout
+from hippo_env.env import maze_env
 from hippo_env.geometry import wrap_angle
 
 from .results import NavRun
@@ -95,12 +96,12 @@ def explore_without_goal(env: gym.Env, agent: HippocampalAgent, steps: int) -> n
     """The agent explores on its own with no goal anywhere (learning on); returns the path."""
     obs, info = env.reset(options={"goal": None})
     agent.reset(obs, info)
-    path = [env.unwrapped.path[:1]]
+    path = [maze_env(env).path[:1]]
     remaining = steps
     while remaining > 0:
         end = rollout(env, agent, obs, max_steps=remaining)
         remaining -= end.steps
-        path.append(env.unwrapped.path[-end.steps :])
+        path.append(maze_env(env).path[-end.steps :])
         obs = end.observation
         if end.terminated or end.truncated:
             obs, info = env.reset(options={"goal": None})
@@ -117,7 +118,7 @@ def drive_scripted(env: gym.Env, agent: HippocampalAgent, waypoints: Any) -> np.
     driver.reset(obs, info)
     limit = int(sum(np.linalg.norm(np.diff(np.asarray(waypoints, float), axis=0), axis=1)) / 0.1) + 50
     rollout(env, driver, obs, max_steps=limit, keep_going=lambda: not driver.done())
-    return np.asarray(env.unwrapped.path, float)
+    return np.asarray(maze_env(env).path, float)
 
 
 def replay_at(agent: HippocampalAgent, env: gym.Env, goal: Any) -> bool:
@@ -129,7 +130,7 @@ def replay_at(agent: HippocampalAgent, env: gym.Env, goal: Any) -> bool:
     """
     agent.start_trial(agent.trial + 1)
     goal = np.asarray(goal, float)  # (with path integration: as if localised at the goal)
-    agent.place.v = agent.place_rates_at(env.unwrapped.observation_at(goal), pi_position=goal - agent.frame_offset(env))
+    agent.place.v = agent.place_rates_at(maze_env(env).observation_at(goal), pi_position=goal - agent.frame_offset(env))
     return agent.learn_reward()
 
 
@@ -145,7 +146,7 @@ def navigate(agent: HippocampalAgent, env: gym.Env, goal: Any, runs: int, seed: 
         info = rollout(env, runner, obs).info
         out.append(
             NavRun(
-                success=bool(info["is_success"]), indirectness=float(info.get("indirectness", math.nan)), steps=len(env.unwrapped.path) - 1
+                success=bool(info["is_success"]), indirectness=float(info.get("indirectness", math.nan)), steps=len(maze_env(env).path) - 1
             )
         )
     return out

@@ -42,6 +42,7 @@ def _same_start_trial(task: TrialResult) -> SameStartTrial:
 
 def _map_entry(task: TrialResult) -> MapEntry:
     run1 = task.result.run_records[0]
+    assert task.map is not None  # a map entry is made of a trial whose map was sampled
     return MapEntry(maze=task.maze, seed=task.seed, found_goal=bool(run1.success), run1_steps=run1.steps, stats=task.map.stats)
 
 
@@ -132,6 +133,7 @@ def _source_digest() -> dict[str, str]:
 
     digests = {}
     for package in (hippo_agent, hippo_env):
+        assert package.__file__ is not None
         root = Path(package.__file__).parent
         h = hashlib.sha256()
         for path in sorted(root.rglob("*.py")):
