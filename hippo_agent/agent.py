@@ -249,7 +249,9 @@ class HippocampalAgent:
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
             self._candidates = None
-            self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals)
+            self.pi.correct(
+                *self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals
+            )
             if self.pi.anchored:
                 self.place.settle(b, self._pi_input(), self.config.settle_steps)
         else:

@@ -210,7 +210,9 @@ class PathIntegrator:
         if n < 1:
             return
         which = np.argsort(self.weights)[:n]
-        n_proposed = 0 if proposed is None or len(proposed) == 0 else round(self.proposal_share * n)
+        if proposed is None or len(proposed) == 0:
+            proposed = np.empty((0, 2))
+        n_proposed = round(self.proposal_share * n) if len(proposed) else 0
         cells = self.rng.choice(rates.size, size=n - n_proposed, p=rates / rates.sum())
         drawn = centres[cells] + self.lag * self.last_step
         if n_proposed:
