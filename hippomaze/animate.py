@@ -374,7 +374,9 @@ def animate(maze: str, seed: int, out: str | Path, agent: str = "hippo", runs: i
         try:
             import imageio_ffmpeg  # noqa: F401
         except ImportError as err:
-            raise ImportError(f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})") from err
+            raise ImportError(
+                f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
+            ) from err
     for name, value, least in (("seed", seed, 0), ("runs", runs, 1), ("frames", frames, 10), ("fps", fps, 1), ("dpi", dpi, 20)):
         if not isinstance(value, int) or value < least:
             raise ValueError(f"--{name} must be an integer >= {least}, got {value!r}")
@@ -389,7 +391,9 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     """Add ``animate`` to the ``hippomaze`` subcommands."""
     p = commands.add_parser("animate", help="animate one DMTP trial into a .gif or .mp4", description=__doc__.split("\n\n")[0])
     p.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
-    p.add_argument("--seed", type=int, default=0, help="the runner's seed: the goal, the starts and the agent's, as hippomaze dmtp (default: 0)")
+    p.add_argument(
+        "--seed", type=int, default=0, help="the runner's seed: the goal, the starts and the agent's, as hippomaze dmtp (default: 0)"
+    )
     p.add_argument(
         "--agent",
         default="hippo",

@@ -81,7 +81,14 @@ class Args:
 
 #: ``--quick``: small networks and schedules, so that a smoke run of every agent takes seconds.
 QUICK_OVERRIDES: dict[str, dict[str, Any]] = {
-    "dqn": {"learning_starts": 100, "buffer_size": 2000, "batch_size": 32, "train_freq": 8, "gradient_steps": 1, "target_update_interval": 200},
+    "dqn": {
+        "learning_starts": 100,
+        "buffer_size": 2000,
+        "batch_size": 32,
+        "train_freq": 8,
+        "gradient_steps": 1,
+        "target_update_interval": 200,
+    },
     "ppo": {"n_steps": 128, "batch_size": 32, "n_epochs": 2},
     "hippo": {"dry_run_steps": 300},
     "hippo-paper": {"dry_run_steps": 300},
@@ -128,13 +135,14 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     args = parse_args(argv)
     out = Path(args.out).resolve()
     jobs = make_jobs(args)
+    command = ("python -m benchmarks.sample_efficiency " + shlex.join(sys.argv[1:] if argv is None else argv)).strip()
     began = time.perf_counter()
     records_folder = out / ("sample_efficiency_sweep" if args.sweep else "sample_efficiency")
-    records, ran = run_jobs(jobs, records_folder, engine=args.engine, workers=args.workers, address=args.address, progress=args.progress)
+    records, ran = run_jobs(jobs, records_folder, engine=args.engine, workers=args.workers, address=args.address,
+                            progress=args.progress, command=command)  # fmt: skip
     wall = time.perf_counter() - began
-    command = "python -m benchmarks.sample_efficiency " + shlex.join(sys.argv[1:] if argv is None else argv)
     meta = {
-        "command": command.strip(), "args": dataclasses.asdict(args), "date": datetime.datetime.now().isoformat(timespec="seconds"),
+        "command": command, "args": dataclasses.asdict(args), "date": datetime.datetime.now().isoformat(timespec="seconds"),
         "python": platform.python_version(), "machine": platform.machine(), "cpus": os.cpu_count(),
         "jobs": len(jobs), "jobs_run": len(ran), "wall_seconds_this_invocation": round(wall, 1),
         "cpu_seconds_all_jobs": round(sum(r.seconds for r in records.values()), 1),
@@ -152,7 +160,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     focus = "hippo" if "hippo" in results else order[0]
     comparison = compare(results, focus, list(args.mazes))
     table = comparison_markdown(comparison, results)
-    document = {**meta, "table_markdown": table, "statistics": comparison.to_dict(), "results": {k: r.to_dict() for k, r in results.items()}}
+    document = {
+        **meta,
+        "table_markdown": table,
+        "statistics": comparison.to_dict(),
+        "results": {k: r.to_dict() for k, r in results.items()},
+    }
     stem = "sample_efficiency_quick" if args.quick else "sample_efficiency"
     write_json(out / f"{stem}.json", document)
     plot_bench(results, comparison, out / f"{stem}.png")
@@ -163,7 +176,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     return document
 
 
-def write_references(results: dict[str, Any], records: list[JobRecord], ran: set[str], records_folder: Path, meta: dict[str, Any]) -> list[Path]:
+def write_references(
+    results: dict[str, Any], records: list[JobRecord], ran: set[str], records_folder: Path, meta: dict[str, Any]
+) -> list[Path]:
     """Write the reference files of the variants in REFERENCE_VARIANTS, each saying how it was made."""
     legacy_path = records_folder / PROVENANCE_FILE
     legacy = json.loads(legacy_path.read_text()) if legacy_path.exists() else None
@@ -175,10 +190,11 @@ def write_references(results: dict[str, Any], records: list[JobRecord], ran: set
         origins: dict[str, dict[str, Any]] = {}  # the records grouped by how they were made
         for r in mine:
             if r.made is not None:
-                origin = {"made": "by this command" if r.name in ran else "by an earlier run of it", **r.made}
+                origin = {"run": "by this invocation" if r.name in ran else "by an earlier invocation (its record reused)", **r.made}
             else:
-                origin = {"made": f"converted from an earlier record without a date or versions; what is known: {PROVENANCE_FILE}",
-                          "known": legacy}  # fmt: skip
+                known = {k: v for k, v in (legacy or {}).items() if k not in ("about", "records")}
+                origin = {"run": f"by an earlier invocation; converted from its job record, which has no date or versions ({PROVENANCE_FILE})",
+                          **known, **(legacy or {}).get("records", {}).get(r.name, {})}  # fmt: skip
             key = json.dumps(origin, sort_keys=True)
             origins.setdefault(key, {**origin, "jobs": []})["jobs"].append(r.name)
         made = {

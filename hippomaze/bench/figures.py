@@ -111,4 +111,3 @@ def plot_bench(results: dict[str, VariantResult], comparison: Comparison, path: 
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
-

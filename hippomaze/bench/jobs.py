@@ -17,9 +17,9 @@ import dataclasses
 import datetime
 import gzip
 import importlib.metadata
-import re
 import json
 import math
+import re
 import time
 from dataclasses import dataclass
 from pathlib import Path

@@ -144,8 +144,9 @@ def run_bench(args: BenchArgs, command: str | None = None) -> dict[str, Any]:
                  trials=args.setting("trials"), runs=args.setting("runs"), label=label)
         for maze in args.mazes for seed in range(args.setting("seeds"))
     ]  # fmt: skip
+    command = command or "hippomaze bench " + shlex.join(sys.argv[1:])
     began = time.perf_counter()
-    records, ran = run_jobs(jobs, out / "jobs", engine=args.engine, workers=args.workers, progress=args.progress)
+    records, ran = run_jobs(jobs, out / "jobs", engine=args.engine, workers=args.workers, progress=args.progress, command=command)
     results = analyse([records[j.name] for j in jobs], WINDOW, tuple(args.mazes))
     (yours,) = results.values()
     references = load_references(reference_names)
@@ -157,7 +158,7 @@ def run_bench(args: BenchArgs, command: str | None = None) -> dict[str, Any]:
     missing = [m for m in args.mazes if not any(m in ref.result.mazes for ref in references.values())]
     notes = [f"no shipped reference ran in {', '.join(missing)}"] if missing else []
     document = {
-        "command": command or "hippomaze bench " + shlex.join(sys.argv[1:]),
+        "command": command,
         "args": dataclasses.asdict(args),
         "protocol": protocol,
         "settings": {name: args.setting(name) for name in FULL},
@@ -187,13 +188,17 @@ def _markdown(document: dict[str, Any], focus: str) -> str:
     lines = [
         f"# {focus} beside the shipped references",
         "",
-        f"`{document['command']}` ({document['date']}): {how}, {settings['seeds']} seeds per maze, "
-        f"goal switch within {settings['switch_budget']:,} steps.",
+        (
+            f"`{document['command']}` ({document['date']}): {how}, {settings['seeds']} seeds per maze, "
+            f"goal switch within {settings['switch_budget']:,} steps."
+        ),
         "",
-        "Steps (every environment step, the dry run included) until the agent is direct: its run under way is a "
-        "direct success and so are >= 90 % of its 10 runs from there, with median indirectness <= 1. "
-        "IQM over seeds [95 % stratified-bootstrap interval] (seeds that got there / seeds); "
-        "P(faster): rliable's probability of improvement over the mazes.",
+        (
+            "Steps (every environment step, the dry run included) until the agent is direct: its run under way is a "
+            "direct success and so are >= 90 % of its 10 runs from there, with median indirectness <= 1. "
+            "IQM over seeds [95 % stratified-bootstrap interval] (seeds that got there / seeds); "
+            "P(faster): rliable's probability of improvement over the mazes."
+        ),
         "",
         document["table_markdown"],
         "",

@@ -23,6 +23,7 @@ def run_jobs(
     workers: int = 2,
     address: str = "",
     progress: bool = True,
+    command: str | None = None,
 ) -> tuple[dict[str, JobRecord], list[str]]:
     """Run the jobs whose record is not yet in ``folder`` (:func:`~hippomaze.bench.jobs.reusable`),
     saving each record as it finishes.
@@ -34,6 +35,7 @@ def run_jobs(
         workers: parallel jobs (local pool size; CPUs for a local Ray).
         address: a Ray cluster's address (empty: a local Ray).
         progress: show progress bars over jobs and steps.
+        command: the command line running the jobs, kept in each new record's ``made``.
 
     Returns:
         Every job's record by job name, and the names of the jobs run now (the others were on disk).
@@ -64,6 +66,8 @@ def run_jobs(
 
     def finished(job: Job, record: JobRecord) -> None:
         nonlocal done_steps
+        if command is not None and record.made is not None:
+            record.made = {"command": command, **record.made}
         save_record(job_path(folder, job), record)
         progress_path(job).unlink(missing_ok=True)
         records[job.name] = record

@@ -251,6 +251,8 @@ def compare(results: dict[str, VariantResult], focus: str, mazes: list[str] | No
         if matrix is not None:
             share, low, high = stats.performance_profile(matrix, np.asarray(taus))
             covered = [t <= result.horizon for t in taus]  # past its budget a variant's share is unknown
-            profile = {key: [v if c else None for v, c in zip(values, covered)] for key, values in (("share", share), ("low", low), ("high", high))}
+            profile = {
+                key: [v if c else None for v, c in zip(values, covered)] for key, values in (("share", share), ("low", low), ("high", high))
+            }
         out[name] = VariantStats(steps, direct, after, again, faster, profile)
     return Comparison(focus=focus, mazes=mazes, taus=taus, variants=out)
