@@ -83,7 +83,7 @@ def plot_bench(results: dict[str, VariantResult], comparison: Comparison, path: 
 
     ax = axes[1, -1]  # IQM steps to direct, all mazes (or the one maze), and after a goal switch
     key = ALL if len(comparison.mazes) >= 2 else comparison.mazes[0]
-    rows = [v for v in comparison.variants]
+    rows = [v for v, s in comparison.variants.items() if key in s.steps_to_direct]  # those that ran in every maze
     for i, v in enumerate(rows):
         s, colour = comparison.variants[v], _colour(v, focus)
         switched = s.direct_again.get(key)
@@ -102,7 +102,7 @@ def plot_bench(results: dict[str, VariantResult], comparison: Comparison, path: 
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.grid(alpha=0.3, which="both", lw=0.4, axis="x")
-    ax.set_xlabel("steps: to direct (o), to direct again after a goal switch (s)")
+    ax.set_xlabel("steps (o: to direct; s: again, after a goal switch)")
     ax.set_title("IQM, 95 % interval" + (" (all mazes)" if key == ALL else ""), fontsize=10)
     fig.suptitle(
         "IQM over seeds with 95 % stratified-bootstrap intervals (rliable); open marker: not direct within the budget",
