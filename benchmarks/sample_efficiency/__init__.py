@@ -5,7 +5,7 @@ described there): it lists the study's jobs (hippo, hippo-paper, random, DQN, PP
 privileged Dyna-Q, DQN and PPO with the dense reward; or the hyperparameter sweep), runs them
 (resumable: each job's record is kept in ``<out>/sample_efficiency/``), and writes
 ``<out>/sample_efficiency.json``, its figure and, with ``--write-references``, the reference
-files that ``hippomaze bench`` ships (``hippomaze/bench/references/``).
+files that ``hippomaze bench`` ships (``hippomaze/bench/reference_results/``).
 
     python -m benchmarks.sample_efficiency --out benchmarks/results --write-references   # the committed results
     python -m benchmarks.sample_efficiency --quick --out /tmp/se                         # a tiny smoke run

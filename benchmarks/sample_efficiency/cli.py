@@ -76,7 +76,7 @@ class Args:
     aggregate: bool = True
     """write the summary JSON and figures after the jobs"""
     write_references: bool = False
-    """also write the references hippomaze bench ships (hippomaze/bench/references/) from hippo, hippo-paper, dqn, ppo, random"""
+    """also write the references hippomaze bench ships (hippomaze/bench/reference_results/) from hippo, hippo-paper, dqn, ppo, random"""
 
 
 #: ``--quick``: small networks and schedules, so that a smoke run of every agent takes seconds.

@@ -18,6 +18,12 @@ def _colour(variant: str, focus: str) -> str:
     return COLOURS.get(base, FOCUS_COLOUR if variant == focus else "C5")
 
 
+def _wrapped(name: str, width: int = 14) -> str:
+    """A long variant name on two lines, after its ``module:`` part (``mypackage.agents:\nGreedyAgent``)."""
+    module, colon, rest = name.rpartition(":")
+    return f"{module}{colon}\n{rest}" if colon and len(name) > width else name
+
+
 def _values(values: list[float | None]) -> np.ndarray:
     return np.array([np.nan if v is None else v for v in values], float)
 
@@ -98,11 +104,11 @@ def plot_bench(results: dict[str, VariantResult], comparison: Comparison, path: 
             high = cap if interval.high is None and interval.low is not None else (shown if interval.high is None else interval.high)
             ax.plot([low, high], [i + offset] * 2, color=colour, lw=2)
             ax.plot([shown], [i + offset], marker=marker, color=colour, mfc="none" if never else colour, ms=6)
-    ax.set_yticks(range(len(rows)), [names.get(v, v) for v in rows], fontsize=8)
+    ax.set_yticks(range(len(rows)), [_wrapped(names.get(v, v)) for v in rows], fontsize=8)
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.grid(alpha=0.3, which="both", lw=0.4, axis="x")
-    ax.set_xlabel("steps (o: to direct; s: again, after a goal switch)")
+    ax.set_xlabel("steps (o: to direct, s: after a switch)")
     ax.set_title("IQM, 95 % interval" + (" (all mazes)" if key == ALL else ""), fontsize=10)
     fig.suptitle(
         "IQM over seeds with 95 % stratified-bootstrap intervals (rliable); open marker: not direct within the budget",

@@ -1,6 +1,6 @@
 """The shipped reference results: what ``hippomaze bench`` sets the user's agent beside.
 
-One JSON file per variant in ``hippomaze/bench/references/`` (package data, in the wheel), each a
+One JSON file per variant in ``hippomaze/bench/reference_results/`` (package data, in the wheel), each a
 :class:`~hippomaze.bench.summary.VariantResult` with ``made``: the command that wrote it, when,
 and, per job record it was made from, the command, date and package versions of the run (or, for
 records older than that bookkeeping, what is known of them). They are regenerated from a
@@ -38,7 +38,7 @@ class Reference:
 
 def folder() -> Path:
     """The package folder holding the reference files."""
-    return Path(str(importlib.resources.files("hippomaze.bench") / "references"))
+    return Path(str(importlib.resources.files("hippomaze.bench.reference_results")))
 
 
 def available() -> list[str]:
