@@ -180,10 +180,14 @@ def performance_profile(scores: np.ndarray, taus: np.ndarray, seed: int = 0) -> 
     ``scores``: steps to criterion, ``(seeds, mazes)``, never = :data:`NEVER`.
     """
     library, _ = _rliable()
+    thresholds = -np.asarray(taus, float)  # rliable's profile is P(score > tau): steps < tau is -steps > -tau
+
+    def score_distribution(resampled: np.ndarray, tau_list: np.ndarray) -> np.ndarray:  # rliable's default profile, every tau at once
+        return np.mean(resampled.reshape(-1, 1) > np.asarray(tau_list), axis=0)
+
     with _seeded(seed):
-        # rliable's profile is P(score > tau): steps < tau is -steps > -tau
-        profiles, intervals = library.create_performance_profile({"x": -scores}, -np.asarray(taus, float), reps=REPS,
-                                                                 confidence_interval_size=CONFIDENCE)  # fmt: skip
+        profiles, intervals = library.create_performance_profile({"x": -scores}, thresholds, custom_profile_func=score_distribution,
+                                                                 reps=REPS, confidence_interval_size=CONFIDENCE)  # fmt: skip
     return (
         [round(float(v), 4) for v in profiles["x"]],
         [round(float(v), 4) for v in intervals["x"][0]],
