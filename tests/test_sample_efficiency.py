@@ -264,3 +264,12 @@ class TestAnalysis:
 def test_bad_engine_is_refused():
     with pytest.raises(SystemExit):
         cli.parse_args(["--engine", "dask"])
+
+
+def test_every_option_has_its_field_docstring_as_help(capsys):
+    with pytest.raises(SystemExit):
+        cli.parse_args(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for f in dataclasses.fields(cli.Args):
+        assert f"--{f.name.replace('_', '-')}" in text
+    assert "also write the references hippomaze bench ships" in text and "(default: 300000)" in text
