@@ -14,7 +14,7 @@ $(PY):
 # torch==2.13.0 first: it is the local CPU build; a bare torch requirement would pull CUDA wheels.
 $(STAMP): $(PY) pyproject.toml
 	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e ".[baselines,ray,dev,video]"
+	$(PY) -m pip install --quiet -e ".[baselines,ray,dev,video,bench]"
 	touch $(STAMP)
 
 install: $(STAMP)

@@ -44,7 +44,7 @@ hippocampal agent is, that the goal has moved.
 
 The tuning sweep
 ----------------
-``python -m benchmarks.sample_efficiency --sweep`` (see :data:`SWEEP` for the grid and
+``python -m benchmarks.sample_efficiency --sweep --out benchmarks/results`` (see :data:`SWEEP` for the grid and
 ``docs/baselines.md`` for its outcome and what it taught). Run on ``open`` with the sparse reward, 100,000
 steps, seeds 100 and 101 (not the benchmark's seeds 0-4), scored by the number of steps to the
 criterion (median indirectness <= 1 with >= 90 % success over a window of 10 runs) and, failing

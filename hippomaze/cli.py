@@ -3,6 +3,9 @@
 ``hippomaze dmtp --maze open --trials 20 --runs 4 --seed 0 --agent hippo --out out/`` runs the
 delayed-match-to-place experiment, prints each run's indirectness and writes ``out/dmtp.json``
 with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experiments.
+``hippomaze bench --agent module:Class --out DIR`` measures an agent's sample efficiency beside
+the shipped references (:mod:`hippomaze.bench`); ``hippomaze animate --out FILE.gif`` animates
+one DMTP trial (:mod:`hippomaze.animate`).
 """
 
 from __future__ import annotations
@@ -92,12 +95,31 @@ def main(argv: list[str] | None = None) -> int:
         help="paper: AgentConfig.paper(), the model as the paper describes it; default: AgentConfig(), with path integration (default: paper)",
     )
 
+    from hippomaze.animate import add_parser as add_animate_parser
+    from hippomaze.bench.cli import add_parser as add_bench_parser
+
+    add_bench_parser(commands)
+    add_animate_parser(commands)
+
     args = parser.parse_args(argv)
     try:
         if args.command == "dmtp":
             return run_dmtp_command(args)
+        if args.command == "bench":
+            from hippomaze.bench.cli import bench_command
+
+            return bench_command(args)
+        if args.command == "animate":
+            from hippomaze.animate import animate_command
+
+            return animate_command(args)
         return run_paper_command(args)
     except (ValueError, TypeError) as err:  # a bad argument, named in the message
+        print(f"hippomaze: error: {err}", file=sys.stderr)
+        return 2
+    except ImportError as err:  # an optional extra the command needs (bench: rliable; animate to mp4: imageio-ffmpeg)
+        if args.command not in ("bench", "animate"):
+            raise
         print(f"hippomaze: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

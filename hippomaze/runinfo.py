@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import itertools
 import os
 import platform
 import shlex
@@ -65,19 +66,49 @@ def command_line(root: str | Path = ".") -> str:
     return shlex.join(["python", shown, *sys.argv[1:]])
 
 
+def field_docs(cls: type) -> dict[str, str]:
+    """The docstring under each field of the dataclass ``cls`` (CleanRL style: a string literal on the
+    line after the field), by field name; empty where the source cannot be read."""
+    import ast
+    import inspect
+    import textwrap
+
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
+    except (OSError, TypeError, SyntaxError):
+        return {}
+    body = tree.body[0].body if tree.body and isinstance(tree.body[0], ast.ClassDef) else []
+    docs = {}
+    for node, after in itertools.pairwise(body):
+        if (
+            isinstance(node, ast.AnnAssign)
+            and isinstance(node.target, ast.Name)
+            and isinstance(after, ast.Expr)
+            and isinstance(after.value, ast.Constant)
+            and isinstance(after.value.value, str)
+        ):
+            docs[node.target.id] = " ".join(after.value.value.split())
+    return docs
+
+
 def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None) -> ArgsT:
     """A command line with one ``--flag`` per field of the dataclass ``cls`` (CleanRL style).
 
-    Tuples take several values; booleans get ``--flag/--no-flag``.
+    Tuples take several values; booleans get ``--flag/--no-flag``. Each field's docstring
+    (:func:`field_docs`) is its help text, with its default.
     """
     parser = argparse.ArgumentParser(description=description)
+    docs = field_docs(cls)
     for f in dataclasses.fields(cls):
         default, flag = f.default, f"--{f.name.replace('_', '-')}"
+        shown = " ".join(map(str, default)) if isinstance(default, tuple) else default
+        text = f"{docs[f.name]} (default: {shown})" if f.name in docs else f"(default: {shown})"
+        text = text.replace("%", "%%")  # argparse formats help with %
         if isinstance(default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=default)
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=default, help=docs.get(f.name, "").replace("%", "%%"))
         elif isinstance(default, tuple):
-            parser.add_argument(flag, nargs="+", type=type(default[0]) if default else str, default=default)
+            parser.add_argument(flag, nargs="+", type=type(default[0]) if default else str, default=default, help=text)
         else:
-            parser.add_argument(flag, type=type(default), default=default)
+            parser.add_argument(flag, type=type(default), default=default, help=text)
     values = vars(parser.parse_args(argv))
     return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})

@@ -102,3 +102,4 @@ def test_wheel_installs_only_project_named_packages(tmp_path):
     assert top == {"hippo_env", "hippo_agent", "hippomaze"}
     assert "hippomaze/baselines/sb3_agents.py" in names  # --agent dqn works from the wheel
     assert "hippo_env/mazes/open.json" in names
+    assert "hippomaze/bench/reference_results/hippo.json" in names  # hippomaze bench compares with shipped results

@@ -1,6 +1,7 @@
-"""The sample-efficiency benchmark: tiny-budget smoke runs (records complete and well-formed for every
-agent, the dry run counted, resumable), the local pool and Ray giving the same records, and the
-analysis (pooling, steps to criterion, IQM intervals, the headline's "> budget")."""
+"""The sample-efficiency benchmark (``python -m benchmarks.sample_efficiency``, on :mod:`hippomaze.bench`):
+tiny-budget smoke runs (records complete and well-formed for every agent, the dry run counted,
+resumable), the local pool and Ray giving the same records, and the measures (pooling, steps to
+criterion, the goal switch)."""
 
 from __future__ import annotations
 
@@ -14,15 +15,17 @@ import numpy as np
 import pytest
 from hippomaze.baselines import RandomAgent
 
-from benchmarks.sample_efficiency import cli, jobs, metrics, report, summary
+from benchmarks.sample_efficiency import cli
+from hippomaze.bench import jobs, metrics, report
 
 # only the runs of DQN and PPO need stable-baselines3: the analysis tests run without it
 needs_sb3 = pytest.mark.skipif(
-    importlib.util.find_spec("stable_baselines3") is None, reason="the DQN/PPO baselines need the 'baselines' extra"
+    importlib.util.find_spec("stable_baselines3") is None or importlib.util.find_spec("rliable") is None,
+    reason="the DQN/PPO baselines need the 'baselines' extra, the summary the 'bench' extra",
 )
 
 HIPPO = importlib.util.find_spec("hippo_agent") is not None
-AGENTS = ["random", "dqn", "ppo", "dynaq"] + (["hippo"] if HIPPO else [])
+AGENTS = ["random", "dqn", "ppo", "dynaq"] + (["hippo", "hippo-paper"] if HIPPO else [])
 BUDGET, SWITCH = 1200, 500
 QUICK = ["--quick", "--seeds", "1", "--mazes", "open", "--dense-agents", "dqn", "--dense-seeds", "1",
          "--budget", str(BUDGET), "--dynaq-budget", str(BUDGET), "--switch-budget", str(SWITCH),
@@ -31,7 +34,8 @@ EPISODE_KEYS = {"trial", "run", "steps", "success", "path_length", "shortest_pat
 
 
 def _strip(record: dict) -> dict:
-    return {k: v for k, v in record.items() if k != "seconds"}
+    """A record without what differs between two runs of the same job: its time and date."""
+    return {k: v for k, v in record.items() if k not in ("seconds", "made")}
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +62,7 @@ class TestQuickRun:
             assert record is not None, name
             assert {"job", "name", "privileged", "learn", "agent_config", "seconds"} <= set(record)
             assert record["privileged"] == (record["job"]["agent"] == "dynaq")
+            assert record["made"]["versions"]["numpy"]
             # a goal-switch trial only for an agent that became direct on its first goal
             assert ("switch" in record) == (record["learn"]["direct_at"] is not None)
             for phase in [p for p in ("learn", "switch") if p in record]:
@@ -75,31 +80,30 @@ class TestQuickRun:
                 assert p["cut_steps"] >= 0
                 assert p["env_steps_total"] == sum(p["prepare_steps"]) + sum(columns["steps"]) + p["cut_steps"]
             job = record["job"]
-            if job["agent"] != "hippo":
+            if job["agent"] not in ("hippo", "hippo-paper"):
                 assert record["learn"]["env_steps_total"] == job["budget"] == BUDGET
 
     @pytest.mark.skipif(not HIPPO, reason="hippo_agent is not importable")
     def test_hippo_dry_run_is_counted(self, quick):
         out, _ = quick
         record = _records(out)["hippo__open__sparse__seed0"]
-        dry = jobs.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
+        dry = cli.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
         learn = record["learn"]
         assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per trial
         assert learn["env_steps_total"] >= 2 * dry + sum(learn["episodes"]["steps"])
         reps = metrics.replicates(learn)
         assert [r.start[0] for r in reps] == [dry, dry]  # each trial's first run starts after its dry run
 
-    def test_summary_and_figures(self, quick):
+    def test_summary_and_figure(self, quick):
         out, _ = quick
         data = json.loads((out / "sample_efficiency_quick.json").read_text())
-        assert {"command", "curves", "per_seed", "headline", "headline_markdown", "switch_markdown"} <= set(data)
-        names = {row["agent"] for row in data["headline"]}
-        assert names == set(AGENTS) | {"dqn-dense"}
-        for row in data["headline"]:
-            assert "open" in row and "switch" in row["open"]
-        assert "(privileged)" in data["headline_markdown"]
-        for png in ("sample_efficiency_quick.png", "sample_efficiency_quick_goal_switch.png"):
-            assert (out / png).stat().st_size > 10_000
+        assert {"command", "jobs_run", "table_markdown", "statistics", "results"} <= set(data)
+        assert set(data["results"]) == set(AGENTS) | {"dqn-dense"}
+        assert data["statistics"]["focus"] == ("hippo" if HIPPO else "dqn")
+        for name, s in data["statistics"]["variants"].items():
+            assert "open" in s["steps_to_direct"] and "open" in s["after_switch"], name
+        assert "(privileged)" in data["table_markdown"]
+        assert (out / "sample_efficiency_quick.png").stat().st_size > 10_000
 
     def test_resume_skips_finished_jobs(self, quick):
         out, _ = quick
@@ -247,32 +251,8 @@ class TestAnalysis:
     def test_never_direct(self):
         rep = _rep([100] * 30, [True] * 30, [3.0] * 30)
         assert metrics.steps_to_criterion([rep], window=10) is None
-        cell = summary.summarize_steps([None, None, 5000.0], budget=300_000)
-        assert cell.median_steps is None and cell.reached == 1
-        assert report.fmt_steps(cell.median_steps, 300_000) == "> 300,000"
-        assert summary.ratio(cell, summary.StepsToDirect(6000.0, 5, 5, None)) == "> 50"
-
-    def test_no_ratio_when_the_hippo_is_never_direct(self):
-        never = summary.HeadlineCell(summary.StepsToDirect(median_steps=None, reached=1, seeds=5, budget=None))
-        reached = summary.HeadlineCell(summary.StepsToDirect(median_steps=1000.0, reached=3, seeds=5, budget=300_000))
-        rows = [summary.HeadlineRow("hippo", False, {"maze1": never}), summary.HeadlineRow("dqn", False, {"maze1": reached})]
-        table = report.headline_markdown(summary.Summary(summary.Curves([], {}), {}, rows, ["hippo", "dqn"], ["maze1"])).splitlines()
-        assert table[2] == "| hippo | never (1/5) | n/a |"
-        assert table[3] == "| dqn | 1,000 (3/5) | n/a |"
-
-    def test_median_over_seeds_counts_the_censored_ones(self):
-        cell = summary.summarize_steps([1000.0, None, 3000.0], budget=10_000)
-        assert cell.median_steps == 3000.0  # [1000, 3000, inf]
-
-    def test_iqm_interval(self):
-        values = np.array([1.0, 2.0, 3.0, 4.0, 100.0])
-        point, low, high = metrics.iqm_ci([values])
-        assert point == pytest.approx(3.0) and low <= point <= high
-        p2, l2, h2 = metrics.iqm_ci([values, values + 1])  # two strata
-        assert l2 <= p2 <= h2
-        point, low, high = metrics.iqm_ci([np.array([np.nan, 1.0])])  # one seed: a point, no interval
-        assert point == 1.0 and math.isnan(low) and math.isnan(high)
-        assert all(math.isnan(v) for v in metrics.iqm_ci([np.array([np.nan])]))
+        assert report.fmt_steps(None, 300_000) == "> 300,000"
+        assert report.fmt_steps(None, None) == "never"
 
     def test_switch_cost(self):
         # an exploring first run, then direct ones: one run (and its steps) to be direct again
@@ -284,3 +264,12 @@ class TestAnalysis:
 def test_bad_engine_is_refused():
     with pytest.raises(SystemExit):
         cli.parse_args(["--engine", "dask"])
+
+
+def test_every_option_has_its_field_docstring_as_help(capsys):
+    with pytest.raises(SystemExit):
+        cli.parse_args(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for f in dataclasses.fields(cli.Args):
+        assert f"--{f.name.replace('_', '-')}" in text
+    assert "also write the references hippomaze bench ships" in text and "(default: 300000)" in text

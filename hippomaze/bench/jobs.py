@@ -1,29 +1,52 @@
-"""Jobs: what one job is, the benchmark's list of them, running one, and its record on disk."""
+"""Jobs: what one job is, making one for a protocol, running it, and its record on disk.
+
+A job is one (agent, maze, seed, reward type) under one of two protocols:
+
+- **learner**: one long DMTP trial, the goal held, random starts, ``budget`` environment steps in
+  all (the dry run included), one agent throughout;
+- **one-shot**: ``trials`` DMTP trials of ``runs`` runs, a fresh agent (and its dry run) each
+  trial, so each trial is one replicate of "an agent from birth" (the hippocampal agent's protocol).
+
+Either way, an agent that became direct on its goal gets a goal-switch trial (at most
+``switch_budget`` steps) on a goal at least 2 m away.
+"""
 
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import gzip
+import importlib.metadata
 import json
 import math
+import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from benchmarks.sample_efficiency.ledger import Ledger, ProgressFile
-from benchmarks.sample_efficiency.metrics import SWITCH_WINDOW, replicates, steps_to_criterion
 from hippo_env.files import atomic_write
+from hippomaze.bench.ledger import Ledger, ProgressFile
+from hippomaze.bench.metrics import SWITCH_WINDOW, replicates, steps_to_criterion
 
-if TYPE_CHECKING:
-    from benchmarks.sample_efficiency.cli import Args
+#: The protocols a job can follow (see the module docstring).
+PROTOCOLS = ("learner", "one-shot")
+#: The built-in agents measured as one-shot learners by default: fresh-agent trials.
+ONE_SHOT_AGENTS = ("hippo", "hippo-paper")
+#: A run takes at least this many steps (>= 1 m at 0.15 m/step, less the goal radius): a budget of
+#: B steps holds at most B // MIN_RUN_STEPS + 1 runs.
+MIN_RUN_STEPS = 5
 
 
 @dataclass(frozen=True)
 class Job:
-    """One unit of work: an agent on a maze with a seed and a reward type."""
+    """One unit of work: an agent on a maze with a seed and a reward type (build one with :func:`make_job`).
+
+    ``agent`` is what :func:`hippomaze.registry.agent_factory` takes; ``label`` names the agent
+    variant in tables (default: ``agent``); ``budget`` 0 means the one-shot protocol.
+    """
 
     agent: str
     maze: str
@@ -38,6 +61,11 @@ class Job:
     label: str = ""
 
     @property
+    def protocol(self) -> str:
+        """``"one-shot"`` (fresh-agent trials, no step budget) or ``"learner"`` (one trial within ``budget``)."""
+        return "learner" if self.budget else "one-shot"
+
+    @property
     def name(self) -> str:
         label = self.label or self.agent
         return f"{label}__{self.maze}__{self.reward_type}__seed{self.seed}"
@@ -48,20 +76,6 @@ class Job:
         return d
 
 
-QUICK_OVERRIDES: dict[str, dict[str, Any]] = {
-    "dqn": {
-        "learning_starts": 100,
-        "buffer_size": 2000,
-        "batch_size": 32,
-        "train_freq": 8,
-        "gradient_steps": 1,
-        "target_update_interval": 200,
-    },
-    "ppo": {"n_steps": 128, "batch_size": 32, "n_epochs": 2},
-    "hippo": {"dry_run_steps": 300},
-}
-
-
 def learning_overrides(agent: str, budget: int, switch_budget: int) -> dict[str, Any]:
     """The learners' schedules run over the budget they are given."""
     if agent in ("dqn", "ppo"):
@@ -69,77 +83,53 @@ def learning_overrides(agent: str, budget: int, switch_budget: int) -> dict[str,
     return {}
 
 
-def make_jobs(args: Args) -> list[Job]:
-    """Every job of the benchmark (or of the sweep), in a fixed order."""
-    mep = args.max_episode_steps
-    if args.quick:
-        mep = mep or 300
-    jobs: list[Job] = []
+def default_protocol(agent: str) -> str:
+    """The protocol an agent is measured with unless told otherwise: one-shot for the hippocampal agents."""
+    return "one-shot" if agent in ONE_SHOT_AGENTS else "learner"
 
-    def add(
-        agent: str,
-        maze: str,
-        seed: int,
-        reward_type: str,
-        extra: dict[str, Any] | None = None,
-        label: str = "",
-        budget: int | None = None,
-        switch_budget: int | None = None,
-    ) -> None:
-        switch = args.switch_budget if switch_budget is None else switch_budget
-        if agent == "hippo":
-            trials, runs, agent_budget = args.hippo_days, args.hippo_runs, 0
-        else:
-            agent_budget = budget if budget is not None else (args.dynaq_budget if agent == "dynaq" else args.budget)
-            trials, runs = 1, agent_budget // 5 + 1  # a run takes >= 5 steps (>= 1 m at 0.15 m/step, less the goal radius)
-        overrides = dict(QUICK_OVERRIDES.get(agent, {})) if args.quick else {}
-        overrides.update(learning_overrides(agent, agent_budget, switch))
-        overrides.update(extra or {})
-        jobs.append(Job(agent, maze, seed, reward_type, agent_budget, switch, trials, runs, mep, tuple(sorted(overrides.items())), label))
 
-    if args.sweep:
-        from hippomaze.baselines.hyperparams import SWEEP
+def make_job(
+    agent: str,
+    maze: str,
+    seed: int,
+    *,
+    protocol: str,
+    budget: int,
+    switch_budget: int,
+    trials: int,
+    runs: int,
+    reward_type: str = "sparse",
+    max_episode_steps: int = 0,
+    overrides: dict[str, Any] | None = None,
+    label: str = "",
+) -> Job:
+    """One job of ``agent`` under ``protocol``: ``budget`` steps for a learner, ``trials`` x ``runs`` one-shot.
 
-        for point in SWEEP:
-            for seed in point.seeds:
-                add(
-                    point.agent,
-                    "open",
-                    seed,
-                    "sparse",
-                    dict(point.overrides),
-                    label=f"sweep-{point.name}",
-                    budget=args.sweep_budget,
-                    switch_budget=0,
-                )
-        return jobs
-    # Cheap agents first, then the expensive ones seed by seed, so that a partial run has the same
-    # seeds for every agent and maze; the dense variant last.
-    cheap = [a for a in args.agents if a not in ("dqn", "ppo")]
-    for agent in cheap:
-        for maze in args.mazes:
-            for seed in range(args.seeds):
-                add(agent, maze, seed, "sparse")
-    for seed in range(args.seeds):
-        for agent in [a for a in args.agents if a in ("dqn", "ppo")]:
-            for maze in args.mazes:
-                add(agent, maze, seed, "sparse")
-    for seed in range(args.dense_seeds):
-        for agent in args.dense_agents:
-            for maze in args.dense_mazes:
-                add(agent, maze, seed, "dense")
-    return jobs
+    ``overrides`` go to the agent's factory (:func:`hippomaze.registry.agent_factory`); DQN's and
+    PPO's schedules are set to run over the budget.
+    """
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol {protocol!r} is unknown; protocols: {', '.join(PROTOCOLS)}")
+    if protocol == "one-shot":
+        agent_budget = 0
+    else:
+        agent_budget, trials, runs = int(budget), 1, int(budget) // MIN_RUN_STEPS + 1
+    settings = learning_overrides(agent, agent_budget, switch_budget) if protocol == "learner" else {}
+    settings.update(overrides or {})
+    return Job(agent, maze, int(seed), reward_type, agent_budget, int(switch_budget), int(trials), int(runs), int(max_episode_steps),
+               tuple(sorted(settings.items())), label)  # fmt: skip
 
 
 @dataclass
 class JobRecord:
-    """What one job did: stored as ``<out>/sample_efficiency/<job>.json.gz``, one JSON object with these keys in this order.
+    """What one job did: stored as ``<folder>/<job>.json.gz`` (:func:`job_path`), one JSON object with these keys in this order.
 
     A phase (``learn``, and ``switch`` if the agent had a goal-switch trial) is the runner's dmtp.json
     fields with the runs as columns (under ``episodes``, the dmtp.json key), and the step ledger:
     ``prepare_steps`` (the dry run's steps, one entry per agent created), ``cut_steps`` (a run cut by
     the step budget); ``learn`` adds ``direct_at`` (steps to
-    criterion on the first goal, or None), ``switch`` adds ``old_goal``.
+    criterion on the first goal, or None), ``switch`` adds ``old_goal``. ``made``: the date and the
+    package versions (:func:`versions`) of the run.
     """
 
     job: dict[str, Any]  # Job.spec()
@@ -149,12 +139,15 @@ class JobRecord:
     agent_config: dict[str, Any] | None = None
     switch: dict[str, Any] | None = None  # absent from the JSON when there was no goal-switch trial
     seconds: float = 0.0
+    made: dict[str, Any] | None = None  # when and with which versions the job ran (absent from older records)
 
     def to_dict(self) -> dict[str, Any]:
         record = {"job": self.job, "name": self.name, "privileged": self.privileged, "learn": self.learn, "agent_config": self.agent_config}
         if self.switch is not None:
             record["switch"] = self.switch
         record["seconds"] = self.seconds
+        if self.made is not None:
+            record["made"] = self.made
         return record
 
     @classmethod
@@ -191,9 +184,9 @@ def _columns(result: Any, dry_run_steps: list[int]) -> dict[str, Any]:
 
 
 def expected_steps(job: Job) -> int:
-    """Roughly the steps a job will take (for the progress bar): its budgets, or the hippo's trials."""
+    """Roughly the steps a job will take (for the progress bar): its budgets, or its one-shot trials."""
     learn = job.budget or job.trials * (job.runs * 300 + 6000)
-    return learn + (job.switch_budget if job.agent != "hippo" else min(job.switch_budget, job.runs * 300 + 1000))
+    return learn + (job.switch_budget if job.budget else min(job.switch_budget, job.runs * 300 + 1000))
 
 
 def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
@@ -228,6 +221,7 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
     )  # fmt: skip
     record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.dry_run_steps for m in made]))
     record.agent_config = agent_config(made[-1].agent)
+    record.made = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "versions": versions()}
     record.learn["direct_at"] = steps_to_criterion(replicates(record.learn)[-1:], window=SWITCH_WINDOW)
     if job.switch_budget > 0 and learn.run_records and record.learn["direct_at"] is not None:
         agent = made[-1]
@@ -235,7 +229,7 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
         agent.trial_offset = job.trials
         old_goal = learn.run_records[-1].goal
         sseed = switch_seed(job.maze, job.seed, old_goal)
-        runs = job.runs if job.agent == "hippo" else job.switch_budget // 5 + 1
+        runs = job.runs if job.protocol == "one-shot" else job.switch_budget // MIN_RUN_STEPS + 1
         switch = run_dmtp(
             lambda observation_space, action_space, seed: agent,
             job.maze,
@@ -268,23 +262,49 @@ def agent_config(agent: Any) -> dict[str, Any] | None:
     return None if config is None else json.loads(json.dumps(config))
 
 
+def versions() -> dict[str, str | None]:
+    """Python's version and those of the packages a job's numbers depend on (None: not installed)."""
+    import platform
+
+    found: dict[str, str | None] = {"python": platform.python_version()}
+    for package in ("hippomaze", "gymnasium", "numpy", "pymunk", "numba", "torch", "stable-baselines3"):
+        try:
+            found[package] = importlib.metadata.version(package)
+        except importlib.metadata.PackageNotFoundError:
+            found[package] = None
+    return found
+
+
+#: Built-in agents whose parameters :func:`current_config` knows without building one.
+CONFIGURED_AGENTS = ("hippo", "hippo-paper", "dqn", "ppo", "dynaq", "random")
+
+
 def current_config(job: Job) -> dict[str, Any] | None:
-    """The parameters a job's agent would run with now (None for an agent without parameters)."""
+    """The parameters a built-in agent would run with now (None for one without parameters)."""
     overrides = dict(job.overrides)
     if job.agent in ("dqn", "ppo", "dynaq"):
         from hippomaze.baselines.hyperparams import make_params, params_dict
 
         return json.loads(json.dumps(params_dict(make_params(job.agent, **overrides))))
-    if job.agent == "hippo":
+    if job.agent in ("hippo", "hippo-paper"):
         from hippo_agent import AgentConfig
 
-        return json.loads(json.dumps(dataclasses.replace(AgentConfig(), **overrides).to_dict()))
+        base = AgentConfig.paper() if job.agent == "hippo-paper" else AgentConfig()
+        return json.loads(json.dumps(dataclasses.replace(base, **overrides).to_dict()))
     return None
 
 
-def job_path(out: Path, job: Job, sweep: bool = False) -> Path:
-    folder = out / ("sample_efficiency_sweep" if sweep else "sample_efficiency")
-    return folder / f"{job.name}.json.gz"
+def reusable(record: JobRecord | None, job: Job) -> bool:
+    """Whether a record on disk stands for ``job``: made by the same job and, for a built-in agent,
+    with today's defaults (an agent named ``module:Class`` is taken to be unchanged)."""
+    if record is None or record.job != job.spec():
+        return False
+    return job.agent not in CONFIGURED_AGENTS or record.agent_config == current_config(job)
+
+
+def job_path(folder: Path, job: Job) -> Path:
+    """Where a job's record lives in ``folder`` (its name made safe for a file name)."""
+    return folder / f"{re.sub(r'[^A-Za-z0-9_.-]+', '.', job.name)}.json.gz"
 
 
 def save_record(path: Path, record: JobRecord) -> None:

@@ -1,4 +1,11 @@
-"""The measures of a job record: replicates, the curves' points, steps to criterion, goal-switch cost, IQM intervals."""
+"""The measures of a job record: replicates, the curves' points, steps to criterion, goal-switch cost.
+
+A replicate (one-shot: a trial; learner: its one trial) is *direct* from x on when the ``window``
+runs from its run in progress at x on have >= 90 % successes and median indirectness <= 1.0,
+the one in progress being a direct success itself; its *steps to criterion* are the first run
+start from which it is, and a seed's are the median over its replicates. The statistics over
+seeds (IQM, intervals) are :mod:`hippomaze.bench.stats`'.
+"""
 
 from __future__ import annotations
 
@@ -35,6 +42,7 @@ def replicates(phase: dict[str, Any]) -> list[Replicate]:
     return out
 
 
+WINDOW = 10  # runs: the window of the curves and of steps to criterion (the shipped references use it)
 MIN_POOL = 5  # fewer pooled runs than this: no measurement (NaN)
 SWITCH_WINDOW = 10  # runs: the window of "direct on the first goal" inside a job
 
@@ -109,31 +117,3 @@ def switch_cost(phase: dict[str, Any], window: int) -> tuple[int | None, int | N
         if direct_at(rep, rep.start[i], window):
             return i, int(rep.start[i])
     return None, None
-
-
-def iqm(values: np.ndarray, axis: int = -1) -> np.ndarray | float:
-    """Interquartile mean (rliable's IQM: the 25 % trimmed mean)."""
-    from scipy.stats import trim_mean
-
-    return trim_mean(values, 0.25, axis=axis)
-
-
-def iqm_ci(strata: list[np.ndarray], seed: int = 0) -> tuple[float, float, float]:
-    """IQM over all values and its 95 % stratified-bootstrap interval (percentile; strata resampled apart)."""
-    from scipy.stats import bootstrap
-
-    strata = [s[np.isfinite(s)] for s in strata]
-    strata = [s for s in strata if s.size]
-    if not strata:
-        return math.nan, math.nan, math.nan
-    point = float(iqm(np.concatenate(strata)))
-    if sum(s.size for s in strata) < 3:  # too few seeds for an interval
-        return point, math.nan, math.nan
-    samples = tuple(s for s in strata if s.size >= 2)
-    if not samples or all(np.ptp(s) == 0 for s in samples) and len({float(s[0]) for s in samples}) == 1:
-        return point, point, point
-    res = bootstrap(
-        samples, lambda *xs, axis=-1: iqm(np.concatenate(xs, axis=axis), axis=axis), n_resamples=2000, confidence_level=0.95,
-        method="percentile", vectorized=True, random_state=np.random.default_rng(seed),
-    )  # fmt: skip
-    return point, float(res.confidence_interval.low), float(res.confidence_interval.high)

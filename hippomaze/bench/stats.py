@@ -1,0 +1,195 @@
+"""The statistics over seeds, by rliable (Agarwal et al. 2021, "Deep RL at the edge of the statistical precipice").
+
+- **IQM** (interquartile mean: the 25 % trimmed mean over every seed of every maze) with a 95 %
+  **stratified bootstrap** interval: seeds are resampled within each maze (``rliable.library.get_interval_estimates``,
+  percentile method);
+- **probability of improvement** P(X faster than Y) (``rliable.metrics.probability_of_improvement``:
+  the Mann-Whitney statistic per maze, averaged over mazes), with its interval from independent stratified resamples;
+- **performance profiles**: the share of (seed, maze) pairs direct within x steps, for every x
+  (``rliable.library.create_performance_profile``), with intervals.
+
+Steps to criterion are "lower is better", and a seed may never get there within its budget.
+Such a seed counts as slower than every seed that did: it enters as :data:`NEVER`, and an
+estimate that :data:`NEVER` reaches (above :data:`NEVER_ABOVE`) is reported as ``None``, shown
+"> budget". For P(improvement) and the profiles, steps enter negated (higher is better).
+
+rliable draws its resamples from NumPy's global generator; each estimate here seeds it, and
+puts its state back, so the numbers are the same on every call and nothing else is disturbed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+#: Bootstrap resamples per interval.
+REPS = 2000
+#: Coverage of every interval.
+CONFIDENCE = 0.95
+#: Steps to criterion of a seed never direct within its budget.
+NEVER = 1e12
+#: An estimate above this stands for "never within the budget" (NEVER / NEVER_ABOVE exceeds any seed count).
+NEVER_ABOVE = 1e9
+#: The share of values the IQM trims at each end (rliable's ``aggregate_iqm``).
+TRIM = 0.25
+
+
+def _rliable() -> tuple[Any, Any]:
+    """rliable's ``library`` and ``metrics`` modules, or an ImportError saying how to install them."""
+    try:
+        from rliable import library, metrics
+    except ImportError as err:
+        raise ImportError(f"the bench's statistics need rliable (the 'bench' extra): pip install 'hippomaze[bench]' ({err})") from err
+    return library, metrics
+
+
+def method() -> dict[str, Any]:
+    """How the intervals were made, for the JSON."""
+    import importlib.metadata
+
+    try:
+        version = importlib.metadata.version("rliable")
+    except importlib.metadata.PackageNotFoundError:
+        version = None
+    return {
+        "library": "rliable",
+        "rliable": version,
+        "point": f"IQM ({TRIM:.0%} trimmed mean) over seeds x mazes",
+        "interval": f"{CONFIDENCE:.0%} stratified bootstrap (seeds resampled within each maze), percentile method",
+        "reps": REPS,
+        "never": "a seed never direct within its budget counts as slower than any that was; an estimate it decides is null",
+    }
+
+
+@contextlib.contextmanager
+def _seeded(seed: int) -> Iterator[None]:
+    """NumPy's global generator seeded (rliable resamples with it), its state restored afterwards."""
+    state = np.random.get_state()
+    np.random.seed(seed)
+    try:
+        yield
+    finally:
+        np.random.set_state(state)
+
+
+@dataclass
+class Interval:
+    """A point estimate and its interval (``None``: not defined, or "never within the budget" for steps)."""
+
+    point: float | None
+    low: float | None
+    high: float | None
+
+    def to_list(self) -> list[float | None]:
+        return [self.point, self.low, self.high]
+
+
+def _shown(value: float, steps: bool) -> float | None:
+    if not math.isfinite(value) or (steps and value > NEVER_ABOVE):
+        return None
+    return round(float(value), 4)
+
+
+def steps_matrix(columns: list[list[float | None]]) -> np.ndarray | None:
+    """Steps to criterion as rliable's ``(seeds, mazes)`` matrix, never -> :data:`NEVER`; None if the
+    mazes have different numbers of seeds (no stratified matrix) or there is no seed."""
+    if not columns or len({len(c) for c in columns}) != 1 or not columns[0]:
+        return None
+    return np.array([[NEVER if v is None else float(v) for v in c] for c in columns], float).T
+
+
+def iqm_interval(scores: np.ndarray, seed: int = 0, steps: bool = True) -> Interval:
+    """The IQM of ``scores`` (``(seeds, mazes)``) and its stratified-bootstrap interval (none with fewer than 3 values)."""
+    library, metrics = _rliable()
+    point = float(metrics.aggregate_iqm(scores))
+    if scores.size < 3:
+        return Interval(_shown(point, steps), None, None)
+    with _seeded(seed):
+        _, intervals = library.get_interval_estimates(
+            {"x": scores}, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=REPS, confidence_interval_size=CONFIDENCE
+        )
+    low, high = intervals["x"][:, 0]
+    return Interval(_shown(point, steps), _shown(low, steps), _shown(high, steps))
+
+
+def iqm_at_each_x(scores: np.ndarray) -> np.ndarray:
+    """rliable's ``aggregate_iqm`` of ``scores[..., j]`` for every j at once (``scores``: ``(seeds, mazes, x)``)."""
+    from scipy.stats import trim_mean
+
+    return trim_mean(scores.reshape(-1, scores.shape[-1]), TRIM, axis=0)
+
+
+def curve_band(points: np.ndarray, seed: int = 0) -> tuple[list[float | None], list[float | None], list[float | None]]:
+    """A learning curve's IQM over seeds at each x, and its interval.
+
+    ``points``: ``(seeds, mazes, x)``, NaN where a seed has no point. A point and its interval are
+    given only where every seed of every maze has one (the bootstrap resamples a fixed set of
+    seeds); elsewhere ``None``. No interval with fewer than 3 seeds x mazes.
+    """
+    library, _ = _rliable()
+    n = points.shape[-1]
+    iqm: list[float | None] = [None] * n
+    low: list[float | None] = [None] * n
+    high: list[float | None] = [None] * n
+    keep = np.flatnonzero(np.all(np.isfinite(points), axis=(0, 1)))
+    if keep.size == 0:
+        return iqm, low, high
+    scores = points[..., keep]
+    centre = iqm_at_each_x(scores)
+    if scores.shape[0] * scores.shape[1] >= 3:
+        with _seeded(seed):
+            _, intervals = library.get_interval_estimates({"x": scores}, iqm_at_each_x, reps=REPS, confidence_interval_size=CONFIDENCE)
+        bounds = intervals["x"]
+    else:
+        bounds = np.full((2, keep.size), np.nan)
+    for k, j in enumerate(keep):
+        iqm[j], low[j], high[j] = _shown(centre[k], False), _shown(bounds[0, k], False), _shown(bounds[1, k], False)
+    return iqm, low, high
+
+
+def probability_of_improvement(faster: np.ndarray, slower: np.ndarray, seed: int = 0) -> Interval:
+    """P(an agent with steps ``faster`` gets there in fewer steps than one with ``slower``), and its interval.
+
+    Both ``(seeds, mazes)`` with the same mazes in the same order (their seed counts may differ).
+    Ties (both never, say) count one half.
+    """
+    library, metrics = _rliable()
+    x, y = -faster, -slower  # rliable: higher is better
+    point = float(metrics.probability_of_improvement(x, y))
+    if x.shape[0] < 2 or y.shape[0] < 2:
+        return Interval(_shown(point, False), None, None)
+    with _seeded(seed):
+        _, intervals = library.get_interval_estimates(
+            {"xy": [x, y]},
+            lambda a, b: np.array([metrics.probability_of_improvement(a, b)]),
+            reps=REPS,
+            confidence_interval_size=CONFIDENCE,
+        )
+    low, high = intervals["xy"][:, 0]
+    return Interval(_shown(point, False), _shown(low, False), _shown(high, False))
+
+
+def performance_profile(scores: np.ndarray, taus: np.ndarray, seed: int = 0) -> tuple[list[float], list[float], list[float]]:
+    """The share of (seed, maze) pairs direct within each of ``taus`` steps, and its interval.
+
+    ``scores``: steps to criterion, ``(seeds, mazes)``, never = :data:`NEVER`.
+    """
+    library, _ = _rliable()
+    thresholds = -np.asarray(taus, float)  # rliable's profile is P(score > tau): steps < tau is -steps > -tau
+
+    def score_distribution(resampled: np.ndarray, tau_list: np.ndarray) -> np.ndarray:  # rliable's default profile, every tau at once
+        return np.mean(resampled.reshape(-1, 1) > np.asarray(tau_list), axis=0)
+
+    with _seeded(seed):
+        profiles, intervals = library.create_performance_profile({"x": -scores}, thresholds, custom_profile_func=score_distribution,
+                                                                 reps=REPS, confidence_interval_size=CONFIDENCE)  # fmt: skip
+    return (
+        [round(float(v), 4) for v in profiles["x"]],
+        [round(float(v), 4) for v in intervals["x"][0]],
+        [round(float(v), 4) for v in intervals["x"][1]],
+    )
