@@ -325,8 +325,8 @@ class HippocampalAgent:
             self.place.learn_pp()
         self.place.update_trace()
         if self.map is not None and self.pi.anchored:
-            if self.total_steps % c.map_every == 0:
-                self.map.observe(self.pi.estimate, heading, ranges, self.max_range, learn=dry or c.map_in_runs)
+            if dry or self.total_steps % c.run_map_every == 0:
+                self.map.observe(self.pi.estimate, heading, ranges, self.max_range, unknown_only=not (dry or c.map_in_runs))
             if dry:
                 if self.total_steps % c.recruit_every == 0:
                     self._recruit()
@@ -401,7 +401,7 @@ class HippocampalAgent:
         """In a run, once anchored: a running mean of how well the scan fits the map at the
         estimate; when it falls below ``lost_agreement``, the estimate is at a look-alike place:
         anchor afresh."""
-        every = self.config.map_every
+        every = self.config.run_map_every
         if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None or self.total_steps % every:
             return
         ranges, heading = self._scan

@@ -217,33 +217,35 @@ class AgentConfig:
     """While a run's estimate is not anchored, each path-integration sample is weighed by
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
     exploration map seen from there (``ExplorationMap.scan_agreement``)."""
-    map_every: int = 1
-    """The exploration map takes every ``map_every``-th scan, and the scan's fit to the map at the
-    estimate (``lost_agreement``) is checked as often: at 0.15 m a step, every second scan still
-    lands within a map cell of the last."""
-    map_proposals: int = 0
+    run_map_every: int = 2
+    """In runs, the map marks the searched ground and the scan's fit to the map at the estimate
+    (``lost_agreement``) is checked every this many steps (the dry run maps every scan): at 0.15 m
+    a step, every second scan still lands within a map cell of the last, and the fit is a running
+    mean over about 10 scans."""
+    map_proposals: int = 16
     """While a run's estimate is not anchored, the exploration map also proposes where the robot
     may be: this many walkable places (of every second map cell), drawn with probability
     ``exp(map_beta * agreement)`` of the current scan with the map there; ``pi_proposal_share`` of
     the redrawn samples are drawn around them. 0 = off."""
     pi_proposal_share: float = 0.5
     """Share of the redrawn samples drawn from the map's proposals (``map_proposals``)."""
-    pi_lost_vote_floor: float = 1e-3
-    """While not anchored, the floor added to the place code's vote for each sample (1e-3 once
-    anchored): a higher floor makes the vote weaker evidence against places it does not propose."""
-    pi_collapse_on_anchor: bool = False
+    pi_lost_vote_floor: float = 0.1
+    """While not anchored, the floor added to the place code's vote for each sample
+    (``pi_vote_floor`` once anchored): a higher floor makes the vote weaker evidence against places
+    it does not propose, which in look-alike rooms are often where the robot is."""
+    pi_collapse_on_anchor: bool = True
     """On anchoring, the samples outside the anchored cluster are dropped, so that a look-alike
     place that the boundary code's vote favours cannot take the estimate over afterwards."""
     lost_agreement: float = 0.4
     """Once anchored, when the running mean of the scan's agreement with the map at the estimate
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
-    learn_agreement: float = -1.0
+    learn_agreement: float = 0.6
     """In a run, the cells learn only while that running mean is at least this (-1: whenever
     anchored): an estimate at a look-alike place would teach the place code the wrong place."""
-    map_in_runs: bool = True
-    """The exploration map also takes in walls and free ground during runs (else only the dry run
-    builds it, and runs mark where they searched): a run anchored at a look-alike place would
-    write that place's walls into the wrong part of the map."""
+    map_in_runs: bool = False
+    """In runs, the exploration map takes in walls and free ground everywhere, as in the dry run;
+    if ``False``, only where it knows nothing yet: a run anchored at a look-alike place would
+    otherwise write that place's walls over what the dry run mapped."""
     transit_min_distance: float = 3.0
     """A transit's destination lies at least this far (m, along the path) from where it starts."""
     sweep_patience: int = 3
@@ -425,8 +427,8 @@ class AgentConfig:
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
         unit_interval("pi_proposal_share", "pi_lost_vote_floor", open_low=False)
         non_negative("map_proposals")
-        if self.map_every < 1:
-            raise bad("map_every", "an integer >= 1")
+        if self.run_map_every < 1:
+            raise bad("run_map_every", "an integer >= 1")
         if self.exploration not in ("random", "directed"):
             raise bad("exploration", "'random' or 'directed'")
         if self.exploration == "directed" and not self.path_integration:

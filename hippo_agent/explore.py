@@ -83,17 +83,17 @@ class ExplorationMap:
         self._search_id = np.zeros(1, dtype=np.int32)
 
     # ------------------------------------------------------------------ senses
-    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, learn: bool = True) -> None:
+    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, unknown_only: bool = False) -> None:
         """Enter one scan (egocentric ``ranges``, ray ``i`` at ``heading + 2 pi i / n``) seen from
         ``position`` (frame metres), and mark the cells around ``position`` visited and searched.
-        With ``learn=False`` only the marks are made: the walls and free ground stay as they are."""
+        With ``unknown_only``, the scan enters only the cells the map knows nothing of yet: what it
+        knows stays as it is."""
         n_rays = ranges.size
         stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
-        if learn:
-            _enter_scan(
-                self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
-                float(max_range), self.extent, self.cell, self.free_range, self.hit_range,
-            )  # fmt: skip
+        _enter_scan(
+            self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
+            float(max_range), self.extent, self.cell, self.free_range, self.hit_range, unknown_only,
+        )  # fmt: skip
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         _mark_disk(self.searched, float(position[0]), float(position[1]), self.search_radius, self.extent, self.cell)
 
@@ -196,8 +196,11 @@ class ExplorationMap:
 
 # ---------------------------------------------------------------------------- compiled loops
 @njit(cache=True)
-def _enter_scan(free, hits, x, y, heading, ranges, stride, max_range, extent, cell, free_range, hit_range):  # pragma: no cover - compiled
-    """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit."""
+def _enter_scan(
+    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, free_range, hit_range, unknown_only
+):  # pragma: no cover - compiled
+    """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
+    (with ``unknown_only``, only cells neither free nor hit so far)."""
     n = free.shape[0]
     n_rays = ranges.size
     step = cell * 0.5
@@ -214,14 +217,14 @@ def _enter_scan(free, hits, x, y, heading, ranges, stride, max_range, extent, ce
             if i < 0 or j < 0 or i >= n or j >= n:
                 break
             if i != last_i or j != last_j:
-                if free[i, j] < 65535:
+                if free[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
                     free[i, j] += 1
                 last_i, last_j = i, j
             t += step
         if d < hit_range and d < max_range * 0.999:
             i = math.floor((x + d * c + extent) / cell)
             j = math.floor((y + d * s + extent) / cell)
-            if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535:
+            if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
                 hits[i, j] += 1
 
 
