@@ -61,6 +61,19 @@ def test_walkable_points_lie_on_known_ground_clear_of_walls():
     assert len(m.walkable_points(stride=1)) > 3 * len(points)
 
 
+def test_a_scan_entered_unknown_only_leaves_what_the_map_knows():
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    free, hits = m.free.copy(), m.hits.copy()
+    # the same room seen from a place 1 m off (a misplaced estimate): its walls would land on known ground
+    m.observe(np.array([1.0, 0.0]), 0.0, ring_scan(radius=2.0), max_range=10.0, unknown_only=True)
+    known = (free > 0) | (hits > 0)
+    assert np.array_equal(m.free[known], free[known]) and np.array_equal(m.hits[known], hits[known])
+    assert m.known_free[m.index(2.5, 0.0)]  # beyond the old wall: new ground entered
+    m.observe(np.array([1.0, 0.0]), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    assert not np.array_equal(m.free[known], free[known])  # (entered everywhere, it would change)
+
+
 def test_path_goes_around_a_wall():
     m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.free[:] = 1  # all free ...
@@ -140,3 +153,32 @@ def test_directed_exploration_needs_path_integration():
         AgentConfig(path_integration=False)
     AgentConfig(path_integration=False, exploration="random")
     assert AgentConfig.paper().exploration == "random"
+
+
+def test_a_run_whose_scan_fits_the_map_poorly_learns_nothing():
+    """An estimate the map doubts (running fit below ``learn_agreement``, above ``lost_agreement``)
+    keeps the place code as it is; one it trusts learns."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    env.reset(seed=0, options={"goal": None})
+    config = AgentConfig(n_place=300, place_cells_per_m2=0.0, dry_run_steps=600, learn_agreement=0.9, lost_agreement=0.3)
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    agent.dry_run(env)
+    obs, info = env.reset(options={"goal": None})
+    agent.reset(obs, info)
+    while not agent.pi.anchored:
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+
+    def one_step(fit: float) -> bool:
+        nonlocal obs
+        before = agent.place.centre_mass.copy()
+        agent.fit = fit
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        assert agent.pi.anchored
+        return not np.array_equal(before, agent.place.centre_mass)
+
+    assert not one_step(0.5)
+    assert one_step(1.0)
