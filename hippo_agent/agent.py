@@ -32,6 +32,11 @@ the paper describes it. The default adds, beyond the paper:
   place code driven by the BVCs alone votes for positions (the centres of its active cells)
   until one candidate holds most of the belief; until then the path-integration input and all
   plasticity are off. Afterwards the same vote keeps correcting the estimate.
+- **directed exploration and localisation against its map** (``explore.py``): the dry run maps
+  the maze from the rangefinder and sweeps it; while a run's estimate is lost, the map also
+  proposes and weighs candidate places by how well the scan fits it there (look-alike rooms
+  differ in their doors); a poor fit later re-opens the question, and the cells learn only while
+  the scan fits the map.
 - **latent learning**: the place-place tensor also learns during the dry run, so replay spreads
   over everything explored, along the paths actually walked.
 
