@@ -55,8 +55,8 @@ class Recording:
 
     goal: tuple[float, float] | None = None
     steps: list[Step] = field(default_factory=list)
-    weights_before: dict[int, np.ndarray] = field(default_factory=dict)  # run -> W_rp of the goal when it began
-    weights_after: dict[int, np.ndarray] = field(default_factory=dict)  # run -> after it (replay included)
+    weights_before: dict[int, np.ndarray | None] = field(default_factory=dict)  # run -> W_rp of the goal when it began (None: none)
+    weights_after: dict[int, np.ndarray | None] = field(default_factory=dict)  # run -> after it (replay included)
     success: dict[int, bool] = field(default_factory=dict)
     runs: int = 0
 
@@ -85,7 +85,7 @@ class _Recorder:
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
         self.phase = len(self.recording.weights_before) + 1
-        self.recording.goal = tuple(float(v) for v in info["goal"])
+        self.recording.goal = (float(info["goal"][0]), float(info["goal"][1]))
         self.recording.weights_before[self.phase] = _weights(self.agent)
         self.agent.reset(observation, info)
         self.record(observation, info)
@@ -208,6 +208,7 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.collections import LineCollection
     from matplotlib.patches import Circle
 
@@ -253,6 +254,8 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
         reward = axes[2].scatter([], [], c=[], s=[], cmap="plasma", norm=PowerNorm(0.5, vmin=0, vmax=top_weight), zorder=5, linewidths=0)
         axes[2].set_title("reward map: weights onto the reward cell", fontsize=10)
     fig.tight_layout(rect=(0, 0.06, 1, 0.97))
+    canvas = fig.canvas
+    assert isinstance(canvas, FigureCanvasAgg)  # the Agg backend, chosen above
 
     steps = recording.steps
     phases = np.array([s.phase for s in steps])
@@ -295,8 +298,8 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
             reward.set_offsets(centres[on] if on.size else np.zeros((0, 2)))
             reward.set_array(weights[on])
             reward.set_sizes(8 + 40 * np.sqrt(np.minimum(weights[on] / top_weight, 1.0)))
-        fig.canvas.draw()
-        yield np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+        canvas.draw()
+        yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
     plt.close(fig)
 
 
