@@ -392,7 +392,9 @@ def animate(maze: str, seed: int, out: str | Path, agent: str = "hippo", runs: i
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
     """Add ``animate`` to the ``hippomaze`` subcommands."""
-    p = commands.add_parser("animate", help="animate one DMTP trial into a .gif or .mp4", description=__doc__.split("\n\n")[0])
+    p = commands.add_parser(
+        "animate", help="animate one DMTP trial into a .gif or .mp4", description=__doc__.split("\n\n")[0].replace("``", "")
+    )
     p.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
     p.add_argument(
         "--seed", type=int, default=0, help="the runner's seed: the goal, the starts and the agent's, as hippomaze dmtp (default: 0)"
