@@ -23,6 +23,7 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import gymnasium as gym
@@ -323,15 +324,21 @@ def _weights_at(recording: Recording, phase: int, index: int, starts: dict[int, 
     return out
 
 
+def _imageio_ffmpeg() -> ModuleType:
+    """imageio-ffmpeg, which writes an .mp4, or an ImportError saying how to install it."""
+    try:
+        import imageio_ffmpeg
+    except ImportError as err:
+        raise ImportError(
+            f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
+        ) from err
+    return imageio_ffmpeg
+
+
 def write_animation(frames: Iterator[np.ndarray], out: Path, fps: int) -> int:
     """Write the frames to ``out`` (.gif with Pillow, .mp4 with imageio-ffmpeg); returns how many."""
     if out.suffix.lower() == ".mp4":
-        try:
-            import imageio_ffmpeg
-        except ImportError as err:
-            raise ImportError(
-                f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
-            ) from err
+        imageio_ffmpeg = _imageio_ffmpeg()
         writer = None
         count = 0
         for frame in frames:
@@ -374,12 +381,7 @@ def animate(maze: str, seed: int, out: str | Path, agent: str = "hippo", runs: i
     if out.suffix.lower() not in FORMATS:
         raise ValueError(f"--out {str(out)!r} must end in .gif or .mp4 (.mp4 needs the 'video' extra: pip install 'hippomaze[video]')")
     if out.suffix.lower() == ".mp4":
-        try:
-            import imageio_ffmpeg  # noqa: F401
-        except ImportError as err:
-            raise ImportError(
-                f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
-            ) from err
+        _imageio_ffmpeg()  # before any work: a missing extra is said at once
     for name, value, least in (("seed", seed, 0), ("runs", runs, 1), ("frames", frames, 10), ("fps", fps, 1), ("dpi", dpi, 20)):
         if not isinstance(value, int) or value < least:
             raise ValueError(f"--{name} must be an integer >= {least}, got {value!r}")

@@ -91,6 +91,26 @@ def field_docs(cls: type) -> dict[str, str]:
     return docs
 
 
+def _int_at_least(text: str, least: int, what: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = least - 1
+    if value < least:
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    """An argparse type: an integer >= 1 (argparse names the option in its error)."""
+    return _int_at_least(text, 1, "a positive integer")
+
+
+def non_negative_int(text: str) -> int:
+    """An argparse type: an integer >= 0, e.g. a seed (argparse names the option in its error)."""
+    return _int_at_least(text, 0, "a non-negative integer")
+
+
 def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None, prog: str | None = None) -> ArgsT:
     """A command line with one ``--flag`` per field of the dataclass ``cls`` (CleanRL style).
 
