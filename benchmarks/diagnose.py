@@ -124,7 +124,13 @@ class OracleIntegrator(PathIntegrator):
     truth: np.ndarray | None = None
 
     def correct(
-        self, rates: np.ndarray, centres: np.ndarray, mapped: float = 1.0, spreads: np.ndarray | None = None, likelihood: Any = None
+        self,
+        rates: np.ndarray,
+        centres: np.ndarray,
+        mapped: float = 1.0,
+        spreads: np.ndarray | None = None,
+        likelihood: Any = None,
+        proposals: Any = None,
     ) -> None:
         if self.truth is not None:
             self.estimate = self.truth.copy()

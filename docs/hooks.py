@@ -161,62 +161,29 @@ def maze_suite_random_walk() -> str:
 # ------------------------------------------------------------------ sample efficiency
 
 
-def steps_cell(entry: dict[str, Any]) -> str:
-    reached = f"({entry.get('reached')}/{entry.get('seeds')})"
-    if entry.get("median_steps") is None:
-        return f"> {num(entry.get('budget'))} {reached}"
-    return f"{num(entry['median_steps'])} {reached}"
+SWITCH_COLUMN = "after a goal switch"
 
 
-def sample_efficiency_table(key: str, build: Callable[[dict[str, Any]], str]) -> str:
-    data = load("sample_efficiency.json")
-    text = data.get(key) if isinstance(data.get(key), str) else build(data)
-    return text + source("sample_efficiency.json")
+def split_table(markdown: str, keep: Callable[[str], bool]) -> str:
+    """The columns of a Markdown table whose header ``keep`` accepts (the first, the row names, always)."""
+    rows = [[cell.strip() for cell in line.strip().strip("|").split("|")] for line in markdown.strip().splitlines()]
+    header, body = rows[0], [row for row in rows[2:] if row]
+    columns = [0] + [i for i, name in enumerate(header) if i and keep(name)]
+    return table([header[i] for i in columns], [[row[i] for i in columns] for row in body])
 
 
-def headline_from_records(data: dict[str, Any]) -> str:
-    mazes = data["mazes"]
-    header = ["agent"] + [f"{m}: {what}" for m in mazes for what in ("steps to direct", "x hippo")]
-    rows = []
-    for entry in data["headline"]:
-        name = entry["agent"] + (" (privileged)" if entry.get("privileged") else "")
-        cells = []
-        for m in mazes:
-            e = entry.get(m)
-            cells += ["", ""] if not e else [steps_cell(e), num(e.get("ratio_to_hippo") or 1)]
-        rows.append([name, *cells])
-    return table(header, rows)
-
-
-def switch_from_records(data: dict[str, Any]) -> str:
-    mazes = data["mazes"]
-    header = ["agent"] + [f"{m}: {what}" for m in mazes for what in ("runs", "steps")]
-    rows = []
-    for entry in data["headline"]:
-        cells = []
-        for m in mazes:
-            switch = (entry.get(m) or {}).get("switch")
-            if not switch:
-                cells += ["", ""]
-            elif not switch.get("seeds"):
-                cells += ["n/a: never direct on the first goal", ""]
-            elif switch.get("median_episodes") is None:
-                cells += [f"never ({switch.get('reached')}/{switch.get('seeds')})", f"> {num(switch.get('budget'))}"]
-            else:
-                cells += [
-                    f"{num(switch['median_episodes'])} ({switch.get('reached')}/{switch.get('seeds')})",
-                    num(switch.get("median_steps")),
-                ]
-        rows.append([entry["agent"] + (" (privileged)" if entry.get("privileged") else ""), *cells])
-    return table(header, rows)
+def sample_efficiency_table(keep: Callable[[str], bool]) -> str:
+    """Part of the table ``python -m benchmarks.sample_efficiency`` writes (its ``table_markdown``, made by
+    :mod:`hippomaze.bench.report` from the JSON's ``statistics``)."""
+    return split_table(load("sample_efficiency.json")["table_markdown"], keep) + source("sample_efficiency.json")
 
 
 def sample_efficiency() -> str:
-    return sample_efficiency_table("headline_markdown", headline_from_records)
+    return sample_efficiency_table(lambda column: SWITCH_COLUMN not in column)
 
 
 def goal_switch() -> str:
-    return sample_efficiency_table("switch_markdown", switch_from_records)
+    return sample_efficiency_table(lambda column: SWITCH_COLUMN in column)
 
 
 # ------------------------------------------------------------------ the paper's claims

@@ -23,6 +23,7 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import gymnasium as gym
@@ -55,8 +56,8 @@ class Recording:
 
     goal: tuple[float, float] | None = None
     steps: list[Step] = field(default_factory=list)
-    weights_before: dict[int, np.ndarray] = field(default_factory=dict)  # run -> W_rp of the goal when it began
-    weights_after: dict[int, np.ndarray] = field(default_factory=dict)  # run -> after it (replay included)
+    weights_before: dict[int, np.ndarray | None] = field(default_factory=dict)  # run -> W_rp of the goal when it began (None: none)
+    weights_after: dict[int, np.ndarray | None] = field(default_factory=dict)  # run -> after it (replay included)
     success: dict[int, bool] = field(default_factory=dict)
     runs: int = 0
 
@@ -85,7 +86,7 @@ class _Recorder:
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
         self.phase = len(self.recording.weights_before) + 1
-        self.recording.goal = tuple(float(v) for v in info["goal"])
+        self.recording.goal = (float(info["goal"][0]), float(info["goal"][1]))
         self.recording.weights_before[self.phase] = _weights(self.agent)
         self.agent.reset(observation, info)
         self.record(observation, info)
@@ -208,6 +209,7 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.collections import LineCollection
     from matplotlib.patches import Circle
 
@@ -253,6 +255,8 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
         reward = axes[2].scatter([], [], c=[], s=[], cmap="plasma", norm=PowerNorm(0.5, vmin=0, vmax=top_weight), zorder=5, linewidths=0)
         axes[2].set_title("reward map: weights onto the reward cell", fontsize=10)
     fig.tight_layout(rect=(0, 0.06, 1, 0.97))
+    canvas = fig.canvas
+    assert isinstance(canvas, FigureCanvasAgg)  # the Agg backend, chosen above
 
     steps = recording.steps
     phases = np.array([s.phase for s in steps])
@@ -295,8 +299,8 @@ def render_frames(recording: Recording, spec: Any, frames: int, dpi: int = 80) -
             reward.set_offsets(centres[on] if on.size else np.zeros((0, 2)))
             reward.set_array(weights[on])
             reward.set_sizes(8 + 40 * np.sqrt(np.minimum(weights[on] / top_weight, 1.0)))
-        fig.canvas.draw()
-        yield np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+        canvas.draw()
+        yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
     plt.close(fig)
 
 
@@ -320,15 +324,21 @@ def _weights_at(recording: Recording, phase: int, index: int, starts: dict[int, 
     return out
 
 
+def _imageio_ffmpeg() -> ModuleType:
+    """imageio-ffmpeg, which writes an .mp4, or an ImportError saying how to install it."""
+    try:
+        import imageio_ffmpeg
+    except ImportError as err:
+        raise ImportError(
+            f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
+        ) from err
+    return imageio_ffmpeg
+
+
 def write_animation(frames: Iterator[np.ndarray], out: Path, fps: int) -> int:
     """Write the frames to ``out`` (.gif with Pillow, .mp4 with imageio-ffmpeg); returns how many."""
     if out.suffix.lower() == ".mp4":
-        try:
-            import imageio_ffmpeg
-        except ImportError as err:
-            raise ImportError(
-                f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
-            ) from err
+        imageio_ffmpeg = _imageio_ffmpeg()
         writer = None
         count = 0
         for frame in frames:
@@ -371,12 +381,7 @@ def animate(maze: str, seed: int, out: str | Path, agent: str = "hippo", runs: i
     if out.suffix.lower() not in FORMATS:
         raise ValueError(f"--out {str(out)!r} must end in .gif or .mp4 (.mp4 needs the 'video' extra: pip install 'hippomaze[video]')")
     if out.suffix.lower() == ".mp4":
-        try:
-            import imageio_ffmpeg  # noqa: F401
-        except ImportError as err:
-            raise ImportError(
-                f"an .mp4 needs imageio-ffmpeg (the 'video' extra): pip install 'hippomaze[video]', or write a .gif ({err})"
-            ) from err
+        _imageio_ffmpeg()  # before any work: a missing extra is said at once
     for name, value, least in (("seed", seed, 0), ("runs", runs, 1), ("frames", frames, 10), ("fps", fps, 1), ("dpi", dpi, 20)):
         if not isinstance(value, int) or value < least:
             raise ValueError(f"--{name} must be an integer >= {least}, got {value!r}")
@@ -389,7 +394,9 @@ def animate(maze: str, seed: int, out: str | Path, agent: str = "hippo", runs: i
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
     """Add ``animate`` to the ``hippomaze`` subcommands."""
-    p = commands.add_parser("animate", help="animate one DMTP trial into a .gif or .mp4", description=__doc__.split("\n\n")[0])
+    p = commands.add_parser(
+        "animate", help="animate one DMTP trial into a .gif or .mp4", description=__doc__.split("\n\n")[0].replace("``", "")
+    )
     p.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
     p.add_argument(
         "--seed", type=int, default=0, help="the runner's seed: the goal, the starts and the agent's, as hippomaze dmtp (default: 0)"

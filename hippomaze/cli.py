@@ -24,6 +24,7 @@ import numpy as np
 from hippo_env.env import ACTION_TYPES
 from hippo_env.files import write_json
 from hippo_env.physics import ROBOT_RADIUS
+from hippomaze.runinfo import non_negative_int
 
 # What `hippomaze dmtp` writes into its --out folder (cleared by --overwrite, nothing else is).
 DMTP_OUTPUTS = (
@@ -53,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
     dmtp.add_argument("--trials", type=int, default=20, help="trials, each with a new goal (default: 20)")
     dmtp.add_argument("--runs", type=int, default=4, help="runs per trial (default: 4)")
-    dmtp.add_argument("--seed", type=_seed, default=0, help="seeds goals, starts, environment and agents (default: 0)")
+    dmtp.add_argument("--seed", type=non_negative_int, default=0, help="seeds goals, starts, environment and agents (default: 0)")
     dmtp.add_argument(
         "--agent",
         default="hippo",
@@ -86,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     paper.add_argument("--out", default="paper_out", help="output folder (default: paper_out)")
     paper.add_argument("--quick", action="store_true", help="few trials: a smoke run of every experiment")
-    paper.add_argument("--seed", type=_seed, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
+    paper.add_argument("--seed", type=non_negative_int, default=0, help="base seed; every experiment's seed derives from it (default: 0)")
     paper.add_argument("--workers", type=int, default=2, help="processes for independent trials (default: 2)")
     paper.add_argument(
         "--model",
@@ -316,17 +317,6 @@ def _env_argument(text: str) -> tuple[str, Any]:
         return key, json.loads(value)
     except json.JSONDecodeError:
         return key, value
-
-
-def _seed(text: str) -> int:
-    """An argparse type: a seed is a non-negative integer (argparse names the option in its error)."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}")
-    return value
 
 
 def run_paper_command(args: argparse.Namespace) -> int:

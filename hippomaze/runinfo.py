@@ -91,13 +91,34 @@ def field_docs(cls: type) -> dict[str, str]:
     return docs
 
 
-def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None) -> ArgsT:
+def _int_at_least(text: str, least: int, what: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = least - 1
+    if value < least:
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    """An argparse type: an integer >= 1 (argparse names the option in its error)."""
+    return _int_at_least(text, 1, "a positive integer")
+
+
+def non_negative_int(text: str) -> int:
+    """An argparse type: an integer >= 0, e.g. a seed (argparse names the option in its error)."""
+    return _int_at_least(text, 0, "a non-negative integer")
+
+
+def parse_dataclass_args(cls: type[ArgsT], description: str, argv: list[str] | None = None, prog: str | None = None) -> ArgsT:
     """A command line with one ``--flag`` per field of the dataclass ``cls`` (CleanRL style).
 
     Tuples take several values; booleans get ``--flag/--no-flag``. Each field's docstring
-    (:func:`field_docs`) is its help text, with its default.
+    (:func:`field_docs`) is its help text, with its default. ``prog``: the command as the usage line
+    shows it (default: the script's file name).
     """
-    parser = argparse.ArgumentParser(description=description)
+    parser = argparse.ArgumentParser(prog=prog, description=description)
     docs = field_docs(cls)
     for f in dataclasses.fields(cls):
         default, flag = f.default, f"--{f.name.replace('_', '-')}"

@@ -191,7 +191,7 @@ class TestSB3Agents:
 
     def test_needs_discrete_actions(self, name, tiny):
         env = gym.make("HippoMaze-v0", action_type="heading")
-        with pytest.raises(ValueError, match="Discrete action space"):
+        with pytest.raises(TypeError, match="Discrete action space"):
             agent_factory(name, **tiny)(env.observation_space, env.action_space, seed=0)
 
 

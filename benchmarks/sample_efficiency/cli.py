@@ -98,7 +98,7 @@ PROVENANCE_FILE = "provenance.json"
 
 
 def parse_args(argv: list[str] | None = None) -> Args:
-    args = parse_dataclass_args(Args, package.__doc__.splitlines()[0], argv)
+    args = parse_dataclass_args(Args, package.__doc__.splitlines()[0], argv, prog="python -m benchmarks.sample_efficiency")
     if args.engine not in ("local", "serial", "ray"):
         raise SystemExit(f"--engine must be local, serial or ray, got {args.engine!r}")
     return args

@@ -10,6 +10,7 @@ from typing import Any
 
 from hippomaze.bench.jobs import PROTOCOLS
 from hippomaze.bench.run import FULL, QUICK, BenchArgs, run_bench
+from hippomaze.runinfo import non_negative_int, positive_int
 
 DESCRIPTION = """Measure an agent on the DMTP sample-efficiency protocol and set it beside the shipped reference
 results of hippo, hippo-paper, DQN, PPO and a random agent: environment steps until the agent is
@@ -17,26 +18,6 @@ first direct (its run under way a direct success, and >= 90 % of its 10 runs fro
 indirectness <= 1), steps until direct again after the goal moves, and the learning curves.
 Writes OUT/bench.json (IQM and 95 % intervals by rliable, for the agent and the references),
 OUT/bench.png and OUT/bench.md. Needs the 'bench' extra: pip install 'hippomaze[bench]'."""
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
-    return value
-
-
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}")
-    return value
 
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
@@ -56,7 +37,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         help="a maze to run in (repeatable): open, maze1 ... maze4 or a JSON path; the references cover open and maze1 "
         "(default: --maze open --maze maze1)",
     )
-    p.add_argument("--seeds", type=_positive, help=f"seeds per maze, 0 .. N-1 (default: {FULL['seeds']}; --quick: {QUICK['seeds']})")
+    p.add_argument("--seeds", type=positive_int, help=f"seeds per maze, 0 .. N-1 (default: {FULL['seeds']}; --quick: {QUICK['seeds']})")
     p.add_argument(
         "--protocol",
         default="auto",
@@ -66,18 +47,18 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--budget",
-        type=_positive,
+        type=positive_int,
         help=f"learner: environment steps per seed, the dry run included (default: {FULL['budget']:,}, as the references; "
         f"--quick: {QUICK['budget']:,})",
     )
     p.add_argument(
         "--switch-budget",
-        type=_count,
+        type=non_negative_int,
         help=f"at most this many steps to become direct again after the goal moves; 0: no goal switch "
         f"(default: {FULL['switch_budget']:,}; --quick: {QUICK['switch_budget']:,})",
     )
-    p.add_argument("--trials", type=_positive, help=f"one-shot: trials per seed (default: {FULL['trials']}; --quick: {QUICK['trials']})")
-    p.add_argument("--runs", type=_positive, help=f"one-shot: runs per trial (default: {FULL['runs']}; --quick: {QUICK['runs']})")
+    p.add_argument("--trials", type=positive_int, help=f"one-shot: trials per seed (default: {FULL['trials']}; --quick: {QUICK['trials']})")
+    p.add_argument("--runs", type=positive_int, help=f"one-shot: runs per trial (default: {FULL['runs']}; --quick: {QUICK['runs']})")
     p.add_argument(
         "--quick",
         action="store_true",
@@ -102,7 +83,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         choices=("local", "serial", "ray"),
         help="local: a pool of --workers processes; serial: one job after another in this process; ray: a local Ray (default: local)",
     )
-    p.add_argument("--workers", type=_positive, default=2, help="jobs run at once (default: 2)")
+    p.add_argument("--workers", type=positive_int, default=2, help="jobs run at once (default: 2)")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     return p
 

@@ -23,7 +23,7 @@ import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 
@@ -210,14 +210,12 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
         return ledger
 
     sensors = getattr(base, "env_kwargs", {})  # e.g. the hippocampal agent's odometry
-    common = {
-        "env_kwargs": {**sensors, "reward_type": job.reward_type},
-        "max_episode_steps": job.max_episode_steps or None,
-        "progress": False,
-    }
+    env_kwargs = {**sensors, "reward_type": job.reward_type}
+    max_episode_steps = job.max_episode_steps or None
     learn = run_dmtp(
         factory, job.maze, trials=job.trials, runs=job.runs, seed=job.seed, agent_name=job.agent,
-        fresh_agent_per_trial=job.trials > 1, step_budget=job.budget or None, **common,
+        fresh_agent_per_trial=job.trials > 1, step_budget=job.budget or None,
+        env_kwargs=env_kwargs, max_episode_steps=max_episode_steps, progress=False,
     )  # fmt: skip
     record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.dry_run_steps for m in made]))
     record.agent_config = agent_config(made[-1].agent)
@@ -238,7 +236,9 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
             seed=sseed,
             agent_name=job.agent,
             step_budget=job.switch_budget,
-            **common,
+            env_kwargs=env_kwargs,
+            max_episode_steps=max_episode_steps,
+            progress=False,
         )
         record.switch = _columns(switch, [0])
         record.switch["old_goal"] = [float(v) for v in old_goal]
@@ -257,7 +257,7 @@ def agent_config(agent: Any) -> dict[str, Any] | None:
     config = getattr(agent, "config", None)
     if callable(config):
         config = config()
-    elif hasattr(config, "to_dict"):
+    elif config is not None and hasattr(config, "to_dict"):
         config = config.to_dict()
     return None if config is None else json.loads(json.dumps(config))
 
@@ -294,7 +294,7 @@ def current_config(job: Job) -> dict[str, Any] | None:
     return None
 
 
-def reusable(record: JobRecord | None, job: Job) -> bool:
+def reusable(record: JobRecord | None, job: Job) -> TypeGuard[JobRecord]:
     """Whether a record on disk stands for ``job``: made by the same job and, for a built-in agent,
     with today's defaults (an agent named ``module:Class`` is taken to be unchanged)."""
     if record is None or record.job != job.spec():

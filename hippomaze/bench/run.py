@@ -123,7 +123,7 @@ def check(args: BenchArgs) -> tuple[str, list[str]]:
     references = list(shipped if args.references is None else args.references)
     unknown = [r for r in references if r not in shipped]
     if unknown:
-        raise ValueError(f"--references: no shipped reference {', '.join(map(repr, unknown))}; references: {', '.join(shipped)}")
+        raise ValueError(f"--reference: no shipped reference {', '.join(map(repr, unknown))}; references: {', '.join(shipped)}")
     return protocol, references
 
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -95,7 +95,7 @@ def _shown(value: float, steps: bool) -> float | None:
     return round(float(value), 4)
 
 
-def steps_matrix(columns: list[list[float | None]]) -> np.ndarray | None:
+def steps_matrix(columns: Sequence[Sequence[float | None]]) -> np.ndarray | None:
     """Steps to criterion as rliable's ``(seeds, mazes)`` matrix, never -> :data:`NEVER`; None if the
     mazes have different numbers of seeds (no stratified matrix) or there is no seed."""
     if not columns or len({len(c) for c in columns}) != 1 or not columns[0]:

@@ -14,6 +14,7 @@ the research benchmark) is direct in fewer steps, and the performance profiles.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -212,6 +213,12 @@ class Comparison:
         }
 
 
+def _iqm(columns: Sequence[Sequence[float | None]]) -> stats.Interval:
+    """The IQM and interval of steps to criterion (:func:`stats.steps_matrix`'s columns); undefined without a stratified matrix."""
+    matrix = stats.steps_matrix(columns)
+    return stats.Interval(None, None, None) if matrix is None else stats.iqm_interval(matrix)
+
+
 def compare(results: dict[str, VariantResult], focus: str, mazes: list[str] | None = None) -> Comparison:
     """The statistics of every variant in ``results`` beside ``focus``'s (see the module docstring).
 
@@ -227,12 +234,11 @@ def compare(results: dict[str, VariantResult], focus: str, mazes: list[str] | No
         steps, direct, after, again = {}, {}, {}, {}
         for m in shared:
             r = result.mazes[m]
-            column = stats.steps_matrix([r.steps_to_criterion])
-            steps[m] = stats.iqm_interval(column) if column is not None else stats.Interval(None, None, None)
+            steps[m] = _iqm([r.steps_to_criterion])
             direct[m] = Reached(sum(v is not None for v in r.steps_to_criterion), len(r.seeds))
             switched = [s for s, sw in zip(r.switch_steps, r.switched) if sw]
             again[m] = Reached(sum(v is not None for v in switched), len(switched))
-            after[m] = stats.iqm_interval(stats.steps_matrix([switched])) if switched else stats.Interval(None, None, None)
+            after[m] = _iqm([switched])
         matrix = stats.steps_matrix([result.mazes[m].steps_to_criterion for m in shared])
         if len(shared) >= 2 and matrix is not None:
             steps[ALL] = stats.iqm_interval(matrix)
@@ -240,7 +246,7 @@ def compare(results: dict[str, VariantResult], focus: str, mazes: list[str] | No
         if len(shared) >= 2:  # the seeds with a switch trial differ by maze: pooled, not stratified
             pooled = [s for m in shared for s, sw in zip(result.mazes[m].switch_steps, result.mazes[m].switched) if sw]
             again[ALL] = Reached(sum(v is not None for v in pooled), len(pooled))
-            after[ALL] = stats.iqm_interval(stats.steps_matrix([pooled])) if pooled else stats.Interval(None, None, None)
+            after[ALL] = _iqm([pooled])
         faster = None
         common = [m for m in shared if m in results[focus].mazes]
         mine = stats.steps_matrix([results[focus].mazes[m].steps_to_criterion for m in common])
