@@ -142,6 +142,10 @@ class AgentConfig:
     """Depression lambda of eq. 11, applied to the effective reward weights of the active place
     cells at each exploitation decision, reset each run (model-figures: 0.2; feasibility: 0
     loops, 0.2 makes a self-avoiding search, 0.05 best; tuned: 0.02 and 0.1 both did worse)."""
+    exploit_clearance: float = 0.6
+    """While exploiting, a heading whose 30 degree cone the rangefinder shows blocked nearer than
+    this (m) turns to the nearest clear one (0: off). Eq. 10's mean of two open directions at a
+    corner of a corridor points at the corner's wall; each bump then costs an escape."""
     xi: float = 1e-3
     """Explore/exploit threshold xi: exploit only if the best preplayed direction's value (eq. 9)
     is >= xi (paper: max_a v^r|a >= xi; model-figures: 1e-3)."""
@@ -347,9 +351,17 @@ class AgentConfig:
     def paper(cls, **changes: Any) -> AgentConfig:
         """The model as the paper describes it: no path integration (the compass and the
         rangefinder only), no place-place learning in the dry run, a 5,000-step random dry run;
-        the rest as the defaults, but for ``tau_r`` 1, which its results in ``benchmarks/results``
-        were measured with (the default's 2 was tuned for the directed dry run)."""
-        paper = {"path_integration": False, "learn_pp_in_dry_run": False, "exploration": "random", "dry_run_steps": 5000, "tau_r": 1.0}
+        no obstacle reflex while exploiting (``exploit_clearance`` 0); the rest as the defaults,
+        but for ``tau_r`` 1, which its results in ``benchmarks/results`` were measured with (the
+        default's 2 was tuned for the directed dry run)."""
+        paper = {
+            "path_integration": False,
+            "learn_pp_in_dry_run": False,
+            "exploration": "random",
+            "dry_run_steps": 5000,
+            "tau_r": 1.0,
+            "exploit_clearance": 0.0,
+        }
         return cls(**{**paper, **changes})
 
     def __post_init__(self) -> None:
@@ -426,7 +438,7 @@ class AgentConfig:
             raise bad("pi_particles", "an integer >= 2")
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
         unit_interval("pi_proposal_share", "pi_lost_vote_floor", open_low=False)
-        non_negative("map_proposals")
+        non_negative("map_proposals", "exploit_clearance")
         if self.run_map_every < 1:
             raise bad("run_map_every", "an integer >= 1")
         if self.exploration not in ("random", "directed"):
