@@ -445,16 +445,15 @@ class HippocampalAgent:
             return None
         self.reward.depress(v, c.lambda_)  # eq. 11
         if c.exploit_clearance > 0.0 and self._scan is not None:
-            a_star = self._clear_heading(a_star)
+            a_star = self._clear_heading(a_star, *self._scan)
         self._new_segment(a_star)  # if exploration takes over, it starts from here
         return a_star
 
-    def _clear_heading(self, heading: float) -> float:
-        """``heading`` if the rangefinder shows ``exploit_clearance`` metres free within 15 degrees
-        of it; else the nearest heading (in 15 degree steps, up to 90 either way) that does, or
-        ``heading`` if none does. A reflex: eq. 10's mean of two open directions at a corner points
-        at the corner's wall."""
-        ranges, facing = self._scan
+    def _clear_heading(self, heading: float, ranges: np.ndarray, facing: float) -> float:
+        """``heading`` if the scan (``ranges``, ray 0 along ``facing``) shows ``exploit_clearance``
+        metres free within 15 degrees of it; else the nearest heading (in 15 degree steps, up to 90
+        either way) that does, or ``heading`` if none does. A reflex: eq. 10's mean of two open
+        directions at a corner points at the corner's wall."""
         n = ranges.size
         half_cone = max(1, n // 24)
         for turn in (0.0, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0, 75.0, -75.0, 90.0, -90.0):

@@ -189,9 +189,8 @@ def test_an_exploiting_heading_into_a_near_wall_turns_to_the_nearest_clear_one()
     agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=50), seed=0)
     ranges = np.full(720, 3.0, dtype=np.float32)
     ranges[690:720] = ranges[0:31] = 0.3  # a wall 0.3 m ahead, 15 degrees either side of east (ray 0 = the facing)
-    agent._scan = (ranges, 0.0)
-    turned = agent._clear_heading(0.0)
+    turned = agent._clear_heading(0.0, ranges, 0.0)
     assert math.isclose(abs(turned), math.radians(45.0))  # at 15 and 30 degrees its 30 degree cone still meets the wall
-    assert agent._clear_heading(math.pi) == math.pi  # open: unchanged
-    agent._scan = (np.full(720, 0.3, dtype=np.float32), 0.0)
-    assert agent._clear_heading(1.0) == 1.0  # blocked everywhere: unchanged
+    assert agent._clear_heading(math.pi, ranges, 0.0) == math.pi  # open: unchanged
+    assert math.isclose(agent._clear_heading(math.pi, ranges, math.pi), math.pi + math.radians(45.0))  # the wall ahead of the facing
+    assert agent._clear_heading(1.0, np.full(720, 0.3, dtype=np.float32), 0.0) == 1.0  # blocked everywhere: unchanged
