@@ -123,15 +123,8 @@ class OracleIntegrator(PathIntegrator):
 
     truth: np.ndarray | None = None
 
-    def correct(
-        self,
-        rates: np.ndarray,
-        centres: np.ndarray,
-        mapped: float = 1.0,
-        spreads: np.ndarray | None = None,
-        likelihood: Any = None,
-        proposals: Any = None,
-    ) -> None:
+    def correct(self, *evidence: Any, **more: Any) -> None:
+        """Ignores the evidence: the estimate is the truth."""
         if self.truth is not None:
             self.estimate = self.truth.copy()
             self.confidence = 1.0
