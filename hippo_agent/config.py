@@ -238,8 +238,9 @@ class AgentConfig:
     (``pi_vote_floor`` once anchored): a higher floor makes the vote weaker evidence against places
     it does not propose, which in look-alike rooms are often where the robot is."""
     pi_collapse_on_anchor: bool = True
-    """On anchoring, the samples outside the anchored cluster are dropped, so that a look-alike
-    place that the boundary code's vote favours cannot take the estimate over afterwards."""
+    """On anchoring, the samples farther than twice ``pi_anchor_radius`` from the estimate are
+    dropped, so that a look-alike place that the boundary code's vote favours cannot take the
+    estimate over afterwards."""
     lost_agreement: float = 0.4
     """Once anchored, when the running mean of the scan's agreement with the map at the estimate
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""

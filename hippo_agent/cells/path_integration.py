@@ -222,8 +222,8 @@ class PathIntegrator:
         self.weights /= self.weights.sum()
 
     def _keep_cluster(self) -> None:
-        """Anchoring commits to the cluster: the samples outside it are dropped (resampled from
-        the cluster), so that a look-alike place the vote still favours cannot take the estimate
+        """Anchoring commits to the cluster: the samples farther than twice ``anchor_radius``
+        from the estimate are dropped (the rest resampled), so that a look-alike place the vote still favours cannot take the estimate
         over once the robot knows where it is (the map's fit, ``lost_agreement``, re-opens the
         question if the commitment was wrong)."""
         far = np.sum((self.particles - self.estimate) ** 2, axis=1) > (2 * self.anchor_radius) ** 2
