@@ -328,7 +328,12 @@ class HippocampalAgent:
         learn_pp = (not dry or c.learn_pp_in_dry_run) and (c.learn_pp_in_exploitation or self.last_decision == "explore")
         if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
             self.place.learn_pp()
-        self.place.update_trace()
+        if c.path_integration and not plastic:
+            # a code the robot does not trust (lost, or the scan fits the map poorly) may be a
+            # look-alike place's: traced, eq. 7 would link it to the next trusted code, far away
+            self.place.trace[:] = 0.0
+        else:
+            self.place.update_trace()
         if self.map is not None and self.pi.anchored:
             if dry or self.total_steps % c.run_map_every == 0:
                 self.map.observe(self.pi.estimate, heading, ranges, self.max_range, unknown_only=not (dry or c.map_in_runs))
@@ -366,7 +371,7 @@ class HippocampalAgent:
 
     def _pi_input(self) -> np.ndarray:
         c = self.config
-        return self.place.pi_input(self.pi.estimate, c.pi_gain, c.pi_sigma, c.pi_threshold)
+        return self.place.pi_input(self.pi.estimate, c.pi_gain, c.pi_sigma, c.pi_threshold, c.pi_field_radius, c.pi_far_inhibition)
 
     def _corrected_pi_input(self) -> np.ndarray | None:
         """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
@@ -635,7 +640,9 @@ class HippocampalAgent:
         extra = None
         if self.config.path_integration and pi_position is not None:
             c = self.config
-            extra = self.place.pi_input(np.asarray(pi_position, dtype=np.float64), c.pi_gain, c.pi_sigma, c.pi_threshold)
+            extra = self.place.pi_input(
+                np.asarray(pi_position, dtype=np.float64), c.pi_gain, c.pi_sigma, c.pi_threshold, c.pi_field_radius, c.pi_far_inhibition
+            )
         return self.place.rates_for(b, self.config.analysis_settle_steps, extra)
 
     def value_at(self, observation: dict, goal: int = -1, pi_position: np.ndarray | None = None) -> float:

@@ -126,8 +126,10 @@ class AgentConfig:
     """Learning rate ``dt / tau_w^pp`` of eq. 7 (model-figures: 1, ``W[k] += h_k (...)``)."""
 
     # ---------------------------------------------------------------- replay (Algorithm 1)
-    replay_iterations: int = 20
-    """n_rs, iterations of backward replay (model-figures: 10, later 20; feasibility: 20)."""
+    replay_iterations: int = 40
+    """n_rs, iterations of backward replay (model-figures: 10, later 20; feasibility: 20). Each
+    iteration reaches about one place-place link (1.5-2 m) further along the paths walked, so 40
+    cover the geodesic span of a 15-20 m maze; the paper's model keeps 20."""
     tau_r: float = 2.0
     """Replay decay tau_r in iterations, ``exp(-t_r / tau_r)`` (model-figures: 6; feasibility: 2
     gives a map graded around the goal instead of a flat one). Replay's tanh saturates every
@@ -146,13 +148,15 @@ class AgentConfig:
     """While exploiting, a heading whose 30 degree cone the rangefinder shows blocked nearer than
     this (m) turns to the nearest clear one (0: off). Eq. 10's mean of two open directions at a
     corner of a corridor points at the corner's wall; each bump then costs an escape."""
-    xi: float = 1e-3
+    xi: float = 1e-5
     """Explore/exploit threshold xi: exploit only if the best preplayed direction's value (eq. 9)
-    is >= xi (paper: max_a v^r|a >= xi; model-figures: 1e-3)."""
-    xi_here: float = 1e-6
+    is >= xi (paper: max_a v^r|a >= xi; model-figures: 1e-3, which the paper's model keeps). The
+    value falls about e-fold per 4 m of path, so 1e-3 cut the map off about 27 m from the goal (a
+    15 m perfect maze)."""
+    xi_here: float = 1e-8
     """Also explore when the value of the current place (``W_rp v / sum v``) is <= this
-    (model-figures: 1e-6; the paper does not say; it stops the agent from following imagined
-    steps out of a place the reward map has never reached)."""
+    (model-figures: 1e-6, which the paper's model keeps; the paper does not say; it stops the
+    agent from following imagined steps out of a place the reward map has never reached)."""
 
     # ---------------------------------------------------------------- exploration
     segment_min: int = 5
@@ -310,6 +314,14 @@ class AgentConfig:
     pi_threshold: float = 0.7
     """Offset of the path-integration drive: far from its centre a cell is inhibited by
     ``pi_gain * pi_threshold``, so a look-alike place elsewhere no longer fires it."""
+    pi_field_radius: float = 2.0
+    """Distance (m) from its centre beyond which a place cell is silenced by
+    ``pi_far_inhibition``. The Gaussian drive's far inhibition (``pi_gain * pi_threshold``) alone
+    let cells whose boundary input is strong fire 4-10 m from their centres; such a cell links
+    distant places in ``W_pp`` and carries the goal's value to them."""
+    pi_far_inhibition: float = 10.0
+    """Inhibition (same units as the drive) of a cell farther than ``pi_field_radius`` from its
+    centre."""
     pi_centre_max_mass: float = 1000.0
     """Cap of the rate a centre's running mean accumulates; later firing still moves it by at
     least ``rate / pi_centre_max_mass``."""
@@ -353,8 +365,9 @@ class AgentConfig:
         """The model as the paper describes it: no path integration (the compass and the
         rangefinder only), no place-place learning in the dry run, a 5,000-step random dry run;
         no obstacle reflex while exploiting (``exploit_clearance`` 0); the rest as the defaults,
-        but for ``tau_r`` 1, which its results in ``benchmarks/results`` were measured with (the
-        default's 2 was tuned for the directed dry run)."""
+        but for ``tau_r`` 1, 20 replay iterations, ``xi`` 1e-3 and ``xi_here`` 1e-6, which its
+        results in ``benchmarks/results`` were measured with (the default's were tuned for the
+        directed dry run and the path-integrated code)."""
         paper = {
             "path_integration": False,
             "learn_pp_in_dry_run": False,
@@ -362,6 +375,9 @@ class AgentConfig:
             "dry_run_steps": 5000,
             "tau_r": 1.0,
             "exploit_clearance": 0.0,
+            "replay_iterations": 20,
+            "xi": 1e-3,
+            "xi_here": 1e-6,
         }
         return cls(**{**paper, **changes})
 
@@ -434,12 +450,12 @@ class AgentConfig:
         non_negative(
             "Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold", "pi_motion_noise", "pi_min_motion_noise"
         )
-        positive("pi_sigma", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
+        positive("pi_sigma", "pi_field_radius", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
         unit_interval("pi_proposal_share", "pi_lost_vote_floor", open_low=False)
-        non_negative("map_proposals", "exploit_clearance")
+        non_negative("map_proposals", "exploit_clearance", "pi_far_inhibition")
         if self.run_map_every < 1:
             raise bad("run_map_every", "an integer >= 1")
         if self.exploration not in ("random", "directed"):

@@ -177,6 +177,41 @@ def test_place_cells_learn_how_far_from_their_centre_the_boundary_code_fires_the
     assert place.spread[1] == 0.0 and place.spread[2] == 0.0  # silent, and without a centre
 
 
+def test_a_place_cell_is_silenced_beyond_its_field_radius():
+    from hippo_agent.cells import PlaceCells
+
+    place = PlaceCells(3, 4, 8, np.random.default_rng(0), **AgentConfig().place_kwargs())
+    place.centres[:] = [[0.0, 0.0], [1.5, 0.0], [3.0, 0.0]]
+    place.centre_mass[:] = [1.0, 1.0, 0.0]  # the third has no centre yet
+    gain, sigma, threshold = 3.0, 0.7, 0.7
+    drive = place.pi_input(np.zeros(2), gain, sigma, threshold, far_radius=2.0, far_inhibition=10.0)
+    near = gain * (np.exp(-np.array([0.0, 1.5]) ** 2 / (2 * sigma**2)) - threshold)
+    np.testing.assert_allclose(drive[:2], near)  # within the radius: the Gaussian drive alone
+    assert drive[2] == 0.0  # no centre, no drive
+    farther = place.pi_input(np.array([-1.0, 0.0]), gain, sigma, threshold, far_radius=2.0, far_inhibition=10.0)
+    assert farther[1] == pytest.approx(gain * (np.exp(-(2.5**2) / (2 * sigma**2)) - threshold) - 10.0)
+    assert farther[0] > -gain  # cell 0 is 1 m away: not silenced
+
+
+def test_the_trace_holds_nothing_from_before_the_robot_knows_where_it_is():
+    """A run's code before anchoring comes from the boundary code alone and may be a look-alike
+    place's: linking it (eq. 7) to the anchored code would join two distant places."""
+    env = gym.make("HippoMaze-v0", maze="maze2", odometry=True)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=400, dry_run_steps=0), seed=0)
+    for run in range(2):  # the first run sets the frame; the second starts lost
+        obs, info = env.reset(seed=run, options={"goal": None})
+        agent.reset(obs, info)
+        traced_while_lost = []
+        for _ in range(60):
+            action = agent.act(obs)
+            obs, reward, terminated, truncated, info = env.step(action)
+            agent.observe(action, obs, reward, terminated, truncated, info)
+            if not agent.pi.anchored:
+                traced_while_lost.append(agent.place.trace.sum())
+    assert traced_while_lost and max(traced_while_lost) == 0.0
+    assert agent.pi.anchored and agent.place.trace.sum() > 0.0  # anchored: the trace runs again
+
+
 # ------------------------------------------------------------------ the agent
 def test_the_default_agent_needs_odometry_and_says_how_to_get_it():
     env = gym.make("HippoMaze-v0")

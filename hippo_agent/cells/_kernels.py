@@ -196,13 +196,17 @@ def advance(s, v, Wb, b_inhibition, Gamma_pp, extra, has_extra, k, psi, s_out, v
 
 
 @njit(cache=True, error_model="numpy")
-def centre_drive(centres, centre_mass, position, two_var, gain, threshold, out):  # pragma: no cover - compiled
-    """``gain * (exp(-|p - c_i|^2 / two_var) - threshold)`` for the cells with a centre, 0 for the others."""
+def centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, out):  # pragma: no cover - compiled
+    """``gain * (exp(-|p - c_i|^2 / two_var) - threshold)``, less ``far_inhibition`` beyond
+    ``sqrt(far_sq)``, for the cells with a centre, 0 for the others."""
     for i in range(centre_mass.size):
         if centre_mass[i] > 0.0:
             dx = centres[i, 0] - position[0]
             dy = centres[i, 1] - position[1]
-            out[i] = gain * (math.exp(-(dx * dx + dy * dy) / two_var) - threshold)
+            d_sq = dx * dx + dy * dy
+            out[i] = gain * (math.exp(-d_sq / two_var) - threshold)
+            if d_sq > far_sq:
+                out[i] -= far_inhibition
         else:
             out[i] = 0.0
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import math
+
 import numpy as np
 
 from hippo_agent.cells import _kernels
@@ -191,12 +193,23 @@ class PlaceCells:
         return v
 
     # ------------------------------------------------------------------ path-integration centres
-    def pi_input(self, position: np.ndarray, gain: float, sigma: float, threshold: float) -> np.ndarray:
+    def pi_input(
+        self, position: np.ndarray, gain: float, sigma: float, threshold: float, far_radius: float = math.inf, far_inhibition: float = 0.0
+    ) -> np.ndarray:
         """Path-integration drive: ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells
-        with a centre ``c_i``, 0 for the others (they stay free to take new places)."""
+        with a centre ``c_i``, less ``far_inhibition`` farther than ``far_radius`` from it; 0 for the
+        others (they stay free to take new places)."""
         out = np.empty(self.n)
         _kernels.centre_drive(
-            self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), 2.0 * sigma * sigma, gain, threshold, out
+            self.centres,
+            self.centre_mass,
+            np.asarray(position, dtype=np.float64),
+            2.0 * sigma * sigma,
+            gain,
+            threshold,
+            far_radius * far_radius,
+            far_inhibition,
+            out,
         )
         return out
 
