@@ -185,7 +185,7 @@ def test_a_place_cell_is_silenced_beyond_its_field_radius():
     place.centre_mass[:] = [1.0, 1.0, 0.0]  # the third has no centre yet
     gain, sigma, threshold = 3.0, 0.7, 0.7
     drive = place.pi_input(np.zeros(2), gain, sigma, threshold, far_radius=2.0, far_inhibition=10.0)
-    near = gain * (np.exp(-np.array([0.0, 1.5]) ** 2 / (2 * sigma**2)) - threshold)
+    near = gain * (np.exp(-(np.array([0.0, 1.5]) ** 2) / (2 * sigma**2)) - threshold)
     np.testing.assert_allclose(drive[:2], near)  # within the radius: the Gaussian drive alone
     assert drive[2] == 0.0  # no centre, no drive
     farther = place.pi_input(np.array([-1.0, 0.0]), gain, sigma, threshold, far_radius=2.0, far_inhibition=10.0)
