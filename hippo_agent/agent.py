@@ -28,10 +28,11 @@ the paper describes it. The default adds, beyond the paper:
   ``odometry`` observation) rotated by the compass moves a position estimate in the agent's own
   frame. Each place cell learns where in that frame it fires (its centre) and gets an extra drive,
   positive near its centre, negative far from it and silencing beyond ``pi_field_radius``, so a
-  distant place that merely looks alike no longer fires it. At each run's start the robot has been put down somewhere unknown: the
-  place code driven by the BVCs alone votes for positions (the centres of its active cells)
-  until one candidate holds most of the belief; until then the path-integration input and all
-  plasticity are off, and the place-cell trace is held at zero. Afterwards the same vote keeps correcting the estimate.
+  distant place that merely looks alike no longer fires it. At each run's start the robot has
+  been put down somewhere unknown: the place code driven by the BVCs alone votes for positions
+  (the centres of its active cells) until one candidate holds most of the belief; until then the
+  path-integration input and all plasticity are off, and the place-cell trace is held at zero.
+  Afterwards the same vote keeps correcting the estimate.
 - **directed exploration and localisation against its map** (``explore.py``): the dry run maps
   the maze from the rangefinder and sweeps it; while a run's estimate is lost, the map also
   proposes and weighs candidate places by how well the scan fits it there (look-alike rooms
