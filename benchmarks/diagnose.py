@@ -16,8 +16,8 @@ the agent never does) and measures, per maze:
   geodesic distance from the goal of the field peaks of the cells replay has reached.
 - **preplay progress**: on exploiting steps of runs 2-4, the geodesic progress toward the goal per
   step, as a share of the step's length (1 = straight down the shortest path).
-- **exploit**: in runs 2-4, the share of steps where the agent fell back to exploring, and bumps
-  per exploiting step.
+- **exploit**: in runs 2-4, the share of steps where the agent fell back to exploring, the share
+  it homed (the default model, near where the goal was found), and bumps per exploiting step.
 - **path integration**: the median and 90th-percentile distance between the estimate and the true
   position in the agent's frame over the anchored steps of the DMTP runs (the dry run's, whose frame
   starts where the robot stands, separately), the share of runs *misplaced* (anchored more than
@@ -155,6 +155,7 @@ class Watcher:
         self.exploit_steps = 0
         self.steps_later = 0
         self.explore_later = 0
+        self.home_steps = 0
         self._steps_in_run = 0
         self._anchored_at: int | None = None
         self._last_distance: float | None = None
@@ -211,6 +212,8 @@ class Watcher:
                 d = self._goal_distance(info)
                 if self._last_distance is not None and math.isfinite(d):
                     self.progress.append((self._last_distance - d) / 0.15)
+            elif decision == "home":
+                self.home_steps += 1
             else:
                 self.explore_later += 1
         self._last_distance = self._goal_distance(info)
@@ -326,6 +329,8 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
     misplaced = [float(np.median(run) > MISPLACED) for w in watchers for run in w.run_pi_errors if run]
     all_progress = [p for w in watchers for p in w.progress]
     exploit = sum(w.exploit_steps for w in watchers)
+    explore = sum(w.explore_later for w in watchers)
+    home = sum(w.home_steps for w in watchers)
     later_steps = sum(w.steps_later for w in watchers)
     reach = [t["replay_reach"] for t in per_trial]
     n_iter = max((len(r) for r in reach), default=0)
@@ -348,7 +353,8 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
         "replay_reach_median_m": [med([r[i][0] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
         "replay_reach_p90_m": [med([r[i][1] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
         "preplay_progress": med(all_progress),
-        "exploit_fallback_share": (1 - exploit / later_steps) if later_steps else None,
+        "exploit_fallback_share": (explore / later_steps) if later_steps else None,
+        "home_share": (home / later_steps) if later_steps else None,
         "exploit_bumps_per_step": (sum(w.exploit_bumps for w in watchers) / exploit) if exploit else None,
         "pi_error_median_m": med(run_errors),
         "pi_error_p90_m": float(np.quantile(run_errors, 0.9)) if run_errors else None,

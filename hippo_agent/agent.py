@@ -40,6 +40,9 @@ the paper describes it. The default adds, beyond the paper:
   the scan fits the map.
 - **latent learning**: the place-place tensor also learns during the dry run, so replay spreads
   over everything explored, along the paths actually walked.
+- **homing**: at each reward the agent remembers its estimate; within ``home_radius`` of where
+  the current goal was found it heads there along its map, searches round the place if the
+  reward is not there, and anchors afresh if that search finds nothing.
 
 What each setting measures, per maze, is in the README and ``benchmarks/results/``.
 """
@@ -130,10 +133,11 @@ class HippocampalAgent:
         self.intended_heading = 0.0  # exploration's continuous intended heading (rad)
         self.segment_left = 0  # exploration steps left in the current straight segment
         self.escape_left = 0  # exploration steps left after a bump while exploiting
+        self.homing_done = False  # this run reached the remembered goal place without reward
         self.heading = 0.0  # last observed compass heading (rad)
         self.last_decision = "explore"
         self.last_values = np.zeros(c.n_hd)
-        self.episode_stats = {"explore": 0, "exploit": 0, "bumps": 0, "replays": 0}
+        self.episode_stats = {"explore": 0, "exploit": 0, "home": 0, "bumps": 0, "replays": 0}
         self.total_steps = 0
         # the directed dry run: "sweep" (to unvisited ground), then "transit", then "done"
         self.dry_stage = "sweep"
@@ -270,8 +274,9 @@ class HippocampalAgent:
         self._new_segment(heading)
         self.last_decision = "explore"
         self.escape_left = 0
+        self.homing_done = False
         self.last_values = np.zeros(self.config.n_hd)
-        self.episode_stats = {"explore": 0, "exploit": 0, "bumps": 0, "replays": 0}
+        self.episode_stats = {"explore": 0, "exploit": 0, "home": 0, "bumps": 0, "replays": 0}
         self.started = True
 
     def act(self, observation: dict) -> Any:
@@ -283,12 +288,15 @@ class HippocampalAgent:
         if escaping:
             self.escape_left -= 1
         elif self.phase == "trial":
-            heading = self._exploit_heading()
+            heading = self._home_heading()
+            if heading is not None:
+                self.last_decision = "home"
+            else:
+                heading = self._exploit_heading()
+                self.last_decision = "exploit"
         if heading is None:
             heading = self._random_heading() if escaping else self._explore_heading()
             self.last_decision = "explore"
-        else:
-            self.last_decision = "exploit"
         self.episode_stats[self.last_decision] += 1
         return self._to_action(heading)
 
@@ -353,6 +361,8 @@ class HippocampalAgent:
                 self.escape_left = c.bump_escape_steps
         if reward > 0 and not dry:
             self.learn_reward()
+            if c.path_integration and plastic:
+                self.reward.remember_place(self.pi.estimate)
         self.total_steps += 1
         if terminated or truncated:
             self.started = False
@@ -420,9 +430,13 @@ class HippocampalAgent:
         rate = min(1.0, self.config.map_fit_rate * every)
         self.fit = (1.0 - rate) * self.fit + rate * here
         if self.fit < self.config.lost_agreement:
-            self.pi.lose()
-            self._candidates = None
-            self.fit = 1.0
+            self._relocalise()
+
+    def _relocalise(self) -> None:
+        """The estimate is taken to be at a look-alike place: anchor afresh from the map."""
+        self.pi.lose()
+        self._candidates = None
+        self.fit = 1.0
 
     # ================================================================== learning
     def learn_reward(self) -> bool:
@@ -454,6 +468,40 @@ class HippocampalAgent:
             a_star = self._clear_heading(a_star, *self._scan)
         self._new_segment(a_star)  # if exploration takes over, it starts from here
         return a_star
+
+    def _home_heading(self) -> float | None:
+        """Near where the current goal's reward was found (by path integration), go there.
+
+        Within ``home_radius`` of that place, the heading there along the map's walkable path;
+        once there (``home_arrived``) without a reward, the heading to the nearest ground within
+        ``home_radius`` of it not yet searched in this run (a local search). ``None`` farther away,
+        once the local search is done, or while the estimate is lost or doubted."""
+        c = self.config
+        if c.home_radius <= 0.0 or self.map is None:
+            return None
+        target = self.reward.remembered_place()
+        if target is None or not self.pi.anchored or self.fit < c.learn_agreement:
+            return None
+        here = self.pi.estimate
+        distance = float(np.hypot(*(target - here)))
+        if distance > c.home_radius:
+            return None
+        if distance < c.home_arrived:
+            self.homing_done = True
+        if self.homing_done:
+            heading = self.map.heading_to_unsearched_near(here, target, c.home_radius)
+            if heading is None:
+                # searched all round the place without finding the reward: the estimate is most
+                # likely at a look-alike place; anchor afresh, and home again once anchored
+                self._relocalise()
+                self.homing_done = False
+        else:
+            heading = self.map.heading_to(here, self.map.flat_index(*target))
+            if heading is None:  # in the target's map cell (or no known path): straight there
+                heading = math.atan2(target[1] - here[1], target[0] - here[0])
+        if heading is not None:
+            self._new_segment(heading)
+        return heading
 
     def _clear_heading(self, heading: float, ranges: np.ndarray, facing: float) -> float:
         """``heading`` if the scan (``ranges``, ray 0 along ``facing``) shows ``exploit_clearance``

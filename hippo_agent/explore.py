@@ -129,6 +129,15 @@ class ExplorationMap:
         out about a marking radius apart."""
         return self._plan(position, self.searched if this_run else self.visited, -1)
 
+    def heading_to_unsearched_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
+        """The heading (rad) toward the nearest walkable cell within ``radius`` of ``centre`` not
+        yet searched in this run; ``None`` if none can be reached: a local search."""
+        known = np.ones_like(self.searched)
+        inside = np.zeros_like(self.searched)
+        _mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
+        known[inside] = self.searched[inside]
+        return self._plan(position, known, -1)
+
     def heading_to(self, position: np.ndarray, target: int) -> float | None:
         """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
         if it cannot be reached or the robot is there."""

@@ -45,6 +45,9 @@ ARRAY_HOME: dict[str, tuple[str, str]] = {
     "pi_last_step": ("pi", "last_step"),
 }
 ARRAYS = (*ARRAY_HOME, "W_pp_slots", "W_pp_cells")
+# Arrays added within format version 4: a file without them loads as if no reward had been found
+# anywhere yet (name in the file -> the reward cells' attribute; one row per goal).
+REWARD_PLACE_ARRAYS = {"found_sum": "found_sum", "found_count": "found_count"}
 # The exploration map's grids (directed exploration only): name in the file -> the map's attribute.
 MAP_ARRAYS = {"map_free": "free", "map_hits": "hits", "map_visited": "visited", "map_searched": "searched"}
 # The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
@@ -61,6 +64,8 @@ STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
     ("total_steps", int),
 )
+# Behaviour state added within format version 4, with the value a file without it loads.
+LATER_STATE: tuple[tuple[str, Callable[[Any], Any], Any], ...] = (("homing_done", bool, False),)
 # The path integrator's, under "state" -> "pi".
 PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("frame_started", bool),
@@ -94,12 +99,14 @@ def save(agent: Any, path: str | os.PathLike) -> None:
         "rng_kind": type(agent.rng.bit_generator).__name__,
         "state": {
             **{name: getattr(agent, name) for name, _ in STATE},
+            **{name: getattr(agent, name) for name, _, _ in LATER_STATE},
             "pi": {name: getattr(agent.pi, name) for name, _ in PI_STATE},
         },
     }
     arrays = {name: getattr(target, attr) for name, target, attr in _array_slots(agent)}
     arrays["W_pp_slots"] = agent.place.W_pp_used  # the compact W_pp (see PlaceCells)
     arrays["W_pp_cells"] = agent.place.slot_cells
+    arrays.update({name: getattr(agent.reward, attr) for name, attr in REWARD_PLACE_ARRAYS.items()})
     if agent.map is not None:
         arrays.update({name: getattr(agent.map, attr) for name, attr in MAP_ARRAYS.items()})
     with open(path, "wb") as f:
@@ -119,7 +126,7 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             if missing:
                 raise ValueError(f"{what}: arrays {missing} are missing")
             arrays = {k: data[k] for k in ARRAYS}
-            arrays.update({k: data[k] for k in MAP_ARRAYS if k in data.files})
+            arrays.update({k: data[k] for k in (*MAP_ARRAYS, *REWARD_PLACE_ARRAYS) if k in data.files})
     except ValueError as exc:
         if str(exc).startswith(what):
             raise
@@ -159,6 +166,13 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             if not ok or not np.all(np.isfinite(arr)):
                 raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
             setattr(target, attr, arr.astype(ref.dtype))
+        goals = agent.reward.W_rp.shape[0]
+        for name, attr in REWARD_PLACE_ARRAYS.items():
+            ref = np.zeros((goals, *getattr(agent.reward, attr).shape[1:]))
+            arr = arrays.get(name, ref)
+            if arr.shape != ref.shape or not np.all(np.isfinite(arr)):
+                raise ValueError(f"array {name!r} has shape {arr.shape} (expected {ref.shape}) or non-finite values")
+            setattr(agent.reward, attr, arr.astype(np.float64))
         if not np.all(np.isfinite(arrays["W_pp_slots"])):
             raise ValueError("array 'W_pp_slots' has non-finite values")
         agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
@@ -176,6 +190,8 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
         for name, read in STATE:
             setattr(agent, name, read(st[name]))
+        for name, read, default in LATER_STATE:
+            setattr(agent, name, read(st.get(name, default)))
         for name, read in PI_STATE:
             setattr(agent.pi, name, read(st["pi"][name]))
     except ValueError as exc:

@@ -99,6 +99,8 @@ def test_rejects_unsupported_observation_spaces():
         ("segment_max", 2, "segment_min"),
         ("discrete_rounding", "floor", "'stochastic' or 'nearest'"),
         ("xi", -1e-3, ">= 0"),
+        ("home_radius", -1.0, ">= 0"),
+        ("home_arrived", 0.0, "> 0"),
     ],
 )
 def test_bad_config_raises_naming_the_field(field, value, allowed):
@@ -334,3 +336,64 @@ def test_analysis_maps_and_plots(small_maze):
     with pytest.raises(ValueError, match="one value per position"):
         plots.plot_place_field(grid, fields[:3, 0])
     plt.close("all")
+
+
+def test_reward_cells_remember_where_each_goal_was_found():
+    from hippo_agent.cells.reward import RewardCells
+
+    cells = RewardCells(4)
+    assert cells.remembered_place() is None
+    cells.add_goal()
+    assert cells.remembered_place() is None
+    cells.remember_place(np.array([1.0, 2.0]))
+    cells.remember_place(np.array([2.0, 4.0]))
+    np.testing.assert_allclose(cells.remembered_place(), [1.5, 3.0])
+    cells.add_goal()  # a new goal: nothing found yet, the old one kept
+    assert cells.remembered_place() is None
+    np.testing.assert_allclose(cells.found_sum[0] / cells.found_count[0], [1.5, 3.0])
+
+
+@pytest.mark.parametrize("home_radius", [0.0, 1.5])
+def test_near_where_the_goal_was_found_the_agent_homes_there(small_maze, home_radius):
+    """Run 1 finds the goal and remembers where by path integration; run 2, put down within
+    ``home_radius`` of it, heads there (decision "home") and reaches it; with 0, never."""
+    goal, start = [1.2, 1.2], {"start": [-1.4, -1.2], "heading": 0.0}  # far enough to be anchored before it is near
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500, home_radius=home_radius), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    info1, _, _ = drive_run(env, agent, options={"goal": goal, "start": [-1.3, 1.3], "heading": 0.0})
+    assert info1["is_success"]
+    remembered = agent.reward.remembered_place() + agent.frame_offset(env.unwrapped)
+    assert np.hypot(*(remembered - goal)) < 0.3 + 0.1  # where the robot entered the goal disk
+    decisions = []
+    obs, info = env.reset(options=start)
+    agent.reset(obs, info)
+    for _ in range(400):
+        action = agent.act(obs)
+        decisions.append(agent.last_decision)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        if terminated or truncated:
+            break
+    assert ("home" in decisions) == (home_radius > 0), decisions
+    if home_radius > 0:
+        assert info["is_success"] and len(decisions) < 100, len(decisions)
+
+
+def test_a_search_round_the_remembered_place_that_finds_nothing_anchors_afresh(small_maze):
+    """Searched all round where the goal was found, without the reward: the estimate is taken to be
+    at a look-alike place, so the agent anchors afresh (and may home again once anchored)."""
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    info, _, _ = drive_run(env, agent, options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    assert info["is_success"] and agent.pi.anchored
+    agent.pi.estimate = agent.reward.remembered_place() + 0.05
+    agent.homing_done = True
+    agent.map.searched[:] = False
+    assert agent._home_heading() is not None and agent.pi.anchored  # ground round the place left to search
+    agent.map.searched[:] = True
+    assert agent._home_heading() is None
+    assert not agent.pi.anchored and not agent.homing_done

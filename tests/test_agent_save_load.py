@@ -108,14 +108,18 @@ def test_round_trip_is_exact(tmp_path, action_space):
         (agent.place.v, loaded.place.v),
         (agent.place.trace, loaded.place.trace),
         (agent.place.hd_trace, loaded.place.hd_trace),
+        (agent.reward.found_sum, loaded.reward.found_sum),
+        (agent.reward.found_count, loaded.reward.found_count),
     ]:
         assert a.dtype == b.dtype
         np.testing.assert_array_equal(a, b)
     assert loaded.rng.bit_generator.state == agent.rng.bit_generator.state
-    assert (loaded.intended_heading, loaded.segment_left, loaded.goal_rewarded) == (
+    assert agent.reward.remembered_place() is not None  # where the fixture's goal was found
+    assert (loaded.intended_heading, loaded.segment_left, loaded.goal_rewarded, loaded.homing_done) == (
         agent.intended_heading,
         agent.segment_left,
         agent.goal_rewarded,
+        agent.homing_done,
     )
     assert type(loaded.action_space) is type(agent.action_space)
     # the future is identical: same actions from the same observations, same weights after
@@ -159,6 +163,26 @@ def test_a_file_whose_config_lacks_later_fields_loads_with_their_defaults(tmp_pa
     assert loaded.config == agent.config == AgentConfig(n_place=300, dry_run_steps=0)
     obs = env.obs()
     assert [agent.act(obs) for _ in range(50)] == [loaded.act(obs) for _ in range(50)]
+
+
+def test_a_file_without_the_remembered_goal_places_loads_with_none_found(tmp_path):
+    _, agent = trained_agent()
+    path = tmp_path / "agent.npz"
+    agent.save(path)
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files if k not in ("found_sum", "found_count")}
+    meta = json.loads(str(arrays["__meta__"]))
+    del meta["state"]["homing_done"]
+    arrays["__meta__"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "older.npz", **arrays)
+    loaded = HippocampalAgent.load(tmp_path / "older.npz")
+    assert loaded.reward.remembered_place() is None and not loaded.homing_done
+    np.testing.assert_array_equal(loaded.reward.W_rp, agent.reward.W_rp)
+    # a remembered place of the wrong shape is refused, naming the array
+    arrays["found_sum"] = np.zeros((3, 2))
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(ValueError, match="found_sum"):
+        HippocampalAgent.load(tmp_path / "bad.npz")
 
 
 def test_corrupt_truncated_and_foreign_files_raise_value_error(tmp_path):

@@ -194,3 +194,19 @@ def test_an_exploiting_heading_into_a_near_wall_turns_to_the_nearest_clear_one()
     assert agent._clear_heading(math.pi, ranges, 0.0) == math.pi  # open: unchanged
     assert math.isclose(agent._clear_heading(math.pi, ranges, math.pi), math.pi + math.radians(45.0))  # the wall ahead of the facing
     assert agent._clear_heading(1.0, np.full(720, 0.3, dtype=np.float32), 0.0) == 1.0  # blocked everywhere: unchanged
+
+
+def test_local_search_heads_for_unsearched_ground_near_a_place_until_none_is_left():
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0)
+    m.new_run()
+    centre = np.array([1.0, 0.0])
+    # searched only around the robot at the origin: the nearest unsearched ground near (1, 0) lies toward +x
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0)
+    heading = m.heading_to_unsearched_near(np.zeros(2), centre, 0.8)
+    assert heading is not None and math.cos(heading) > 0.5
+    for x in np.arange(0.1, 1.95, 0.1):
+        for y in np.arange(-0.9, 0.95, 0.1):
+            m.observe(np.array([x, y]), 0.0, ring_scan(radius=3.0 - math.hypot(x, y)), max_range=10.0, unknown_only=True)
+    assert m.heading_to_unsearched_near(np.zeros(2), centre, 0.8) is None  # all of the disk searched
+    assert m.heading_to_unvisited(np.zeros(2), this_run=True) is not None  # (ground farther away is not)
