@@ -474,8 +474,9 @@ class HippocampalAgent:
 
         Within ``home_radius`` of that place, the heading there along the map's walkable path;
         once there (``home_arrived``) without a reward, the heading to the nearest ground within
-        ``home_radius`` of it not yet searched in this run (a local search). ``None`` farther away,
-        once the local search is done, or while the estimate is lost or doubted."""
+        ``home_radius`` of it not yet searched in this run (a local search); when none is left,
+        the agent anchors afresh. ``None`` farther away, while the estimate is lost or doubted,
+        and on anchoring afresh."""
         c = self.config
         if c.home_radius <= 0.0 or self.map is None:
             return None
