@@ -539,12 +539,16 @@ class HippocampalAgent:
         Dry run: the sweep heads for the nearest ground not yet visited; once none is reachable
         (for ``sweep_patience`` steps in a row) transits to random visited places follow, for
         ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
-        ground not searched in this run.
+        ground not searched in this run, over walkable cells or, when none is left that way, through
+        any free cell that is not a wall.
         """
         assert self.map is not None  # directed exploration only
         here = self.pi.estimate
         if self.phase != "dry":
-            return self.map.heading_to_unvisited(here, this_run=True)
+            heading = self.map.heading_to_unvisited(here, this_run=True)
+            if heading is None:  # a doorway the map holds narrower than it is may wall the robot in
+                heading = self.map.heading_to_unvisited(here, this_run=True, squeeze=True)
+            return heading
         if self.dry_stage == "sweep":
             heading = self.map.heading_to_unvisited(here)
             self.sweep_steps += 1

@@ -123,11 +123,12 @@ class ExplorationMap:
         self.searched[:] = False
 
     # ------------------------------------------------------------------ planning
-    def heading_to_unvisited(self, position: np.ndarray, this_run: bool = False) -> float | None:
+    def heading_to_unvisited(self, position: np.ndarray, this_run: bool = False, squeeze: bool = False) -> float | None:
         """The heading (rad) toward the nearest walkable cell not yet visited (``this_run``: not
         yet searched in this run); ``None`` if no such cell can be reached. The sweep's lanes come
-        out about a marking radius apart."""
-        return self._plan(position, self.searched if this_run else self.visited, -1)
+        out about a marking radius apart. ``squeeze``: the path may pass any free cell that is not
+        a wall, not only walkable ones (a doorway the map holds narrower than it is)."""
+        return self._plan(position, self.searched if this_run else self.visited, -1, squeeze)
 
     def heading_to_unsearched_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
         """The heading (rad) toward the nearest walkable cell within ``radius`` of ``centre`` not
@@ -148,23 +149,25 @@ class ExplorationMap:
         lengths in cells (for choosing transits)."""
         i, j = self.index(*position)
         self._search_id[0] += 1
-        _, reached = _search(self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0])
+        _, reached = _search(self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False)
         return _known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
-    def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None) -> np.ndarray:
+    def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None, squeeze: bool = False) -> np.ndarray:
         """Flat indices of the cells along the shortest walkable path from ``position`` to the cell
         ``target`` (``-1``: to the nearest walkable cell that ``known`` does not hold); empty if
-        there is none."""
+        there is none. ``squeeze``: through any free cell that is not a wall."""
         if target < -1:
             raise ValueError(f"target={target}; allowed: a cell's flat index, or -1 for the nearest cell that known does not hold")
         i, j = self.index(*position)
         self._search_id[0] += 1
         known = self.visited if known is None else known
-        found, _ = _search(self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0])
+        found, _ = _search(
+            self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze
+        )
         return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
 
-    def _plan(self, position: np.ndarray, known: np.ndarray, target: int) -> float | None:
-        path = self.path(position, target, known)
+    def _plan(self, position: np.ndarray, known: np.ndarray, target: int, squeeze: bool = False) -> float | None:
+        path = self.path(position, target, known, squeeze)
         if path.size < 2:
             return None
         wx, wy = self.centre(path[min(self.lookahead_cells, path.size - 1)])
@@ -339,12 +342,13 @@ def _passable(free, hits, i, j, near_start):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):  # pragma: no cover - compiled
+def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
-    does not hold; if ``target == -2``, everywhere reachable. Returns the flat index of the cell
-    found (its path back to the start through ``parent``), or -1 if there is none (or the robot
-    is there), and the number of cells reached (``queue[:reached]``, in the order reached)."""
+    does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
+    that is not a wall. Returns the flat index of the cell found (its path back to the start
+    through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
+    reached (``queue[:reached]``, in the order reached)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1, 0
@@ -359,7 +363,7 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id):
         head += 1
         ci, cj = cur // n, cur % n
         # a robot beside a wall stands on cells that are not walkable: leave them by free ones
-        near = target != -2 and (cur == start or parent[cur] == start)
+        near = squeeze or (target != -2 and (cur == start or parent[cur] == start))
         if cur != start:
             if target >= 0:
                 if cur == target:

@@ -87,6 +87,22 @@ def test_path_goes_around_a_wall():
     assert not any(m.hits[divmod(int(c), m.n)] for c in path)
 
 
+def test_a_search_squeezes_through_a_doorway_the_map_holds_too_narrow():
+    """A doorway one free cell wide has walls in every 3 x 3 block along it, so no walkable path
+    leads through: the plain search finds nothing left, the squeezing one plans through it."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.free[:] = 1
+    wall_row, door = m.index(0.0, 0.0)
+    m.hits[wall_row, :] = 5  # a wall along x = 0 ...
+    m.hits[wall_row, door] = 0  # ... with a one-cell gap at y = 0
+    m.searched[: wall_row + 1, :] = True  # this side searched
+    assert m.heading_to_unvisited(np.array([-2.0, 0.0]), this_run=True) is None
+    heading = m.heading_to_unvisited(np.array([-2.0, 0.0]), this_run=True, squeeze=True)
+    assert heading is not None and abs(heading) < math.pi / 4, heading  # toward the gap, at +x
+    path = m.path(np.array([-2.0, 0.0]), -1, m.searched, squeeze=True)
+    assert wall_row * m.n + door in path.tolist()  # through the gap
+
+
 def dry_run(maze: str | MazeSpec = "open", seed: int = 0, **config):
     env = gym.make("HippoMaze-v0", maze=maze, odometry=True)
     env.reset(seed=seed, options={"goal": None})
