@@ -546,7 +546,7 @@ class HippocampalAgent:
         here = self.pi.estimate
         if self.phase != "dry":
             heading = self.map.heading_to_unvisited(here, this_run=True)
-            if heading is None:  # a doorway the map holds narrower than it is may wall the robot in
+            if heading is None:  # a doorway too narrow for walkable cells may wall the robot in
                 heading = self.map.heading_to_unvisited(here, this_run=True, squeeze=True)
             return heading
         if self.dry_stage == "sweep":

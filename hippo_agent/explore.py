@@ -127,7 +127,7 @@ class ExplorationMap:
         """The heading (rad) toward the nearest walkable cell not yet visited (``this_run``: not
         yet searched in this run); ``None`` if no such cell can be reached. The sweep's lanes come
         out about a marking radius apart. ``squeeze``: the path may pass any free cell that is not
-        a wall, not only walkable ones (a doorway the map holds narrower than it is)."""
+        a wall, not only walkable ones (past a doorway too narrow for walkable cells)."""
         return self._plan(position, self.searched if this_run else self.visited, -1, squeeze)
 
     def heading_to_unsearched_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
