@@ -149,7 +149,9 @@ class ExplorationMap:
         lengths in cells (for choosing transits)."""
         i, j = self.index(*position)
         self._search_id[0] += 1
-        _, reached = _search(self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False)
+        _, reached = _search(
+            self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False
+        )
         return _known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
     def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None, squeeze: bool = False) -> np.ndarray:
