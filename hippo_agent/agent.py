@@ -134,6 +134,7 @@ class HippocampalAgent:
         self.segment_left = 0  # exploration steps left in the current straight segment
         self.escape_left = 0  # exploration steps left after a bump while exploiting
         self.homing_done = False  # this run reached the remembered goal place without reward
+        self.memory_failures = 0  # searches round the remembered place that found no reward, this run
         self.heading = 0.0  # last observed compass heading (rad)
         self.last_decision = "explore"
         self.last_values = np.zeros(c.n_hd)
@@ -275,6 +276,7 @@ class HippocampalAgent:
         self.last_decision = "explore"
         self.escape_left = 0
         self.homing_done = False
+        self.memory_failures = 0
         self.last_values = np.zeros(self.config.n_hd)
         self.episode_stats = {"explore": 0, "exploit": 0, "home": 0, "bumps": 0, "replays": 0}
         self.started = True
@@ -287,7 +289,7 @@ class HippocampalAgent:
         escaping = self.escape_left > 0
         if escaping:
             self.escape_left -= 1
-        elif self.phase == "trial":
+        elif self.phase == "trial" and self.memory_failures < self.config.home_attempts:
             heading = self._home_heading()
             if heading is not None:
                 self.last_decision = "home"
@@ -360,6 +362,8 @@ class HippocampalAgent:
             if self.last_decision == "exploit" or self.map is not None:
                 self.escape_left = c.bump_escape_steps
         if reward > 0 and not dry:
+            if plastic and self.memory_failures >= c.home_attempts:
+                self.reward.forget_current()  # the memory led nowhere: this find replaces it
             self.learn_reward()
             if c.path_integration and plastic:
                 self.reward.remember_place(self.pi.estimate)
@@ -475,8 +479,9 @@ class HippocampalAgent:
         Within ``home_radius`` of that place, the heading there along the map's walkable path;
         once there (``home_arrived``) without a reward, the heading to the nearest ground within
         ``home_radius`` of it not yet searched in this run (a local search); when none is left,
-        the agent anchors afresh. ``None`` farther away, while the estimate is lost or doubted,
-        and on anchoring afresh."""
+        the agent anchors afresh; after ``home_attempts`` such searches, :meth:`act` stops asking
+        for the rest of the run. ``None`` farther away, while the estimate is lost or doubted, and
+        on anchoring afresh."""
         c = self.config
         if c.home_radius <= 0.0 or self.map is None:
             return None
@@ -496,6 +501,7 @@ class HippocampalAgent:
                 # likely at a look-alike place; anchor afresh, and home again once anchored
                 self._relocalise()
                 self.homing_done = False
+                self.memory_failures += 1
         else:
             heading = self.map.heading_to(here, self.map.flat_index(*target))
             if heading is None:  # in the target's map cell (or no known path): straight there
@@ -540,13 +546,17 @@ class HippocampalAgent:
         (for ``sweep_patience`` steps in a row) transits to random visited places follow, for
         ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
         ground not searched in this run, over walkable cells or, when none is left that way, through
-        any free cell that is not a wall.
+        any free cell that is not a wall; once everything is searched, the search starts afresh (the
+        marking radius is wider than the goal disk, so one pass can miss it).
         """
         assert self.map is not None  # directed exploration only
         here = self.pi.estimate
         if self.phase != "dry":
             heading = self.map.heading_to_unvisited(here, this_run=True)
             if heading is None:  # a doorway too narrow for walkable cells may wall the robot in
+                heading = self.map.heading_to_unvisited(here, this_run=True, squeeze=True)
+            if heading is None:  # everything searched and no goal: search again
+                self.map.new_run()
                 heading = self.map.heading_to_unvisited(here, this_run=True, squeeze=True)
             return heading
         if self.dry_stage == "sweep":

@@ -168,6 +168,10 @@ class AgentConfig:
     """Once the estimate is this close (m) to the remembered place without a reward, the robot
     searches the ground within ``home_radius`` of it not yet searched in the run; when none is
     left, it anchors afresh (its estimate is most likely at a look-alike place)."""
+    home_attempts: int = 2
+    """After this many such searches without the reward in one run, the agent stops following its
+    memory of the goal (home and reward map) for the rest of the run and searches the map; a
+    reward found then replaces the memory (the memory was most likely written while misplaced)."""
 
     # ---------------------------------------------------------------- exploration
     segment_min: int = 5
@@ -463,6 +467,8 @@ class AgentConfig:
         )
         non_negative("home_radius")
         positive("home_arrived")
+        if self.home_attempts < 1:
+            raise bad("home_attempts", "an integer >= 1")
         positive("pi_sigma", "pi_field_radius", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")

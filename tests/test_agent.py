@@ -397,3 +397,45 @@ def test_a_search_round_the_remembered_place_that_finds_nothing_anchors_afresh(s
     agent.map.searched[:] = True
     assert agent._home_heading() is None
     assert not agent.pi.anchored and not agent.homing_done
+
+
+def test_after_home_attempts_failed_searches_the_agent_searches_the_map_and_the_new_find_replaces_the_memory(small_maze):
+    """Its memory of the goal led nowhere ``home_attempts`` times in a run (most likely written
+    while misplaced): for the rest of the run neither homing nor the reward map steers, and the
+    reward found then replaces the old memory instead of being averaged with it."""
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    goal = {"goal": [1.2, 1.2], "heading": 0.0}
+    info, _, _ = drive_run(env, agent, options={**goal, "start": [-1.3, -1.3]})
+    assert info["is_success"] and agent.reward.found_count[-1] == 1
+    agent.reward.found_sum[-1] = [-1.0, 1.0]  # a wrong place (the reward map still leads to the goal)
+    assert np.isclose(agent.reward.W_rp[-1].max(), 1.0)  # one replay's weights peak at 1
+    obs, info = env.reset(options={**goal, "start": [-1.3, 1.3]})
+    agent.reset(obs, info)
+    agent.memory_failures = agent.config.home_attempts
+    decisions = []
+    for _ in range(5000):
+        action = agent.act(obs)
+        decisions.append(agent.last_decision)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        if terminated or truncated:
+            break
+    assert info["is_success"] and set(decisions) == {"explore"}, set(decisions)
+    assert agent.reward.found_count[-1] == 1  # replaced, not averaged with the wrong place
+    np.testing.assert_allclose(agent.reward.remembered_place() + agent.frame_offset(env.unwrapped), [1.2, 1.2], atol=0.45)
+    assert np.isclose(agent.reward.W_rp[-1].max(), 1.0)  # the old map forgotten, one new replay's learnt
+
+
+def test_a_run_search_that_has_searched_everything_starts_afresh(small_maze):
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    agent.reset(obs, info)
+    agent.map.searched[:] = True
+    assert agent._directed_heading() is not None
+    assert not agent.map.searched.any()

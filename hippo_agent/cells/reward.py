@@ -142,6 +142,14 @@ class RewardCells:
         self.reset_effective()
         return True
 
+    def forget_current(self) -> None:
+        """Forget the current goal's reward map and remembered place."""
+        if self.n:
+            self.W_rp[-1] = 0.0
+            self.found_sum[-1] = 0.0
+            self.found_count[-1] = 0.0
+            self.reset_effective()
+
     def remember_place(self, where: np.ndarray) -> None:
         """Remember that the current goal's reward was found at ``where`` (a path-integration
         estimate); :meth:`remembered_place` is the mean of every such place."""
