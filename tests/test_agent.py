@@ -60,6 +60,20 @@ def drive_run(env, agent, options=None, max_steps=10_000):
     return info, np.array(positions), actions
 
 
+def finish_run(env, agent, obs, max_steps):
+    """Drive an agent already reset for a run to its end; returns the last info and the
+    decision behind each step (``agent.last_decision``)."""
+    decisions, info = [], {}
+    for _ in range(max_steps):
+        action = agent.act(obs)
+        decisions.append(agent.last_decision)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        if terminated or truncated:
+            break
+    return info, decisions
+
+
 # ------------------------------------------------------------------ spaces and config
 def test_rejects_unsupported_action_spaces():
     with pytest.raises(ValueError, match="action space .* is unsupported; allowed: Discrete"):
@@ -101,6 +115,7 @@ def test_rejects_unsupported_observation_spaces():
         ("xi", -1e-3, ">= 0"),
         ("home_radius", -1.0, ">= 0"),
         ("home_arrived", 0.0, "> 0"),
+        ("home_attempts", 0, ">= 1"),
     ],
 )
 def test_bad_config_raises_naming_the_field(field, value, allowed):
@@ -366,16 +381,9 @@ def test_near_where_the_goal_was_found_the_agent_homes_there(small_maze, home_ra
     assert info1["is_success"]
     remembered = agent.reward.remembered_place() + agent.frame_offset(env.unwrapped)
     assert np.hypot(*(remembered - goal)) < 0.3 + 0.1  # where the robot entered the goal disk
-    decisions = []
     obs, info = env.reset(options=start)
     agent.reset(obs, info)
-    for _ in range(400):
-        action = agent.act(obs)
-        decisions.append(agent.last_decision)
-        obs, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, obs, reward, terminated, truncated, info)
-        if terminated or truncated:
-            break
+    info, decisions = finish_run(env, agent, obs, 400)
     assert ("home" in decisions) == (home_radius > 0), decisions
     if home_radius > 0:
         assert info["is_success"] and len(decisions) < 100, len(decisions)
@@ -415,14 +423,7 @@ def test_after_home_attempts_failed_searches_the_agent_searches_the_map_and_the_
     obs, info = env.reset(options={**goal, "start": [-1.3, 1.3]})
     agent.reset(obs, info)
     agent.memory_failures = agent.config.home_attempts
-    decisions = []
-    for _ in range(5000):
-        action = agent.act(obs)
-        decisions.append(agent.last_decision)
-        obs, reward, terminated, truncated, info = env.step(action)
-        agent.observe(action, obs, reward, terminated, truncated, info)
-        if terminated or truncated:
-            break
+    info, decisions = finish_run(env, agent, obs, 5000)
     assert info["is_success"] and set(decisions) == {"explore"}, set(decisions)
     assert agent.reward.found_count[-1] == 1  # replaced, not averaged with the wrong place
     np.testing.assert_allclose(agent.reward.remembered_place() + agent.frame_offset(env.unwrapped), [1.2, 1.2], atol=0.45)
