@@ -40,9 +40,9 @@ the paper describes it. The default adds, beyond the paper:
   the scan fits the map.
 - **latent learning**: the place-place tensor also learns during the dry run, so replay spreads
   over everything explored, along the paths actually walked.
-- **homing**: at each reward the agent remembers its estimate; within ``home_radius`` of where
-  the current goal was found it heads there along its map, searches round the place if the
-  reward is not there, and anchors afresh if that search finds nothing.
+- **homing**: at each reward the agent remembers its estimate; in later runs it heads there
+  along its map, searches round the place if the reward is not there, and anchors afresh if
+  that search finds nothing or the way its map showed free keeps bumping into walls.
 
 What each setting measures, per maze, is in the README and ``benchmarks/results/``.
 """
@@ -135,6 +135,7 @@ class HippocampalAgent:
         self.escape_left = 0  # exploration steps left after a bump while exploiting
         self.homing_done = False  # this run reached the remembered goal place without reward
         self.memory_failures = 0  # searches round the remembered place that found no reward, this run
+        self.homing_bumps = 0  # bumps while homing since the last failed search, this run
         self.heading = 0.0  # last observed compass heading (rad)
         self.last_decision = "explore"
         self.last_values = np.zeros(c.n_hd)
@@ -147,6 +148,7 @@ class HippocampalAgent:
         self.transit_target = -1  # the current transit's destination (a map cell), -1 = none
         self.plan_failures = 0  # consecutive steps with nowhere to go
         self.fit = 1.0  # running mean of how well the scan fits the map at the estimate (runs)
+        self.bump_rate = 0.0  # running mean of bumps per step while anchored (runs)
         self._scan: tuple[np.ndarray, float] | None = None  # the scan being processed: (ranges, heading)
         self._candidates: np.ndarray | None = None  # walkable map places, while the estimate is lost
         self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
@@ -257,6 +259,7 @@ class HippocampalAgent:
             # put down somewhere: the boundary code alone votes where in the frame that is
             self.pi.start_run()
             self.fit = 1.0
+            self.bump_rate = 0.0
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
             self._candidates = None
@@ -276,6 +279,7 @@ class HippocampalAgent:
         self.last_decision = "explore"
         self.escape_left = 0
         self.homing_done = False
+        self.homing_bumps = 0
         self.memory_failures = 0
         self.last_values = np.zeros(self.config.n_hd)
         self.episode_stats = {"explore": 0, "exploit": 0, "home": 0, "bumps": 0, "replays": 0}
@@ -347,7 +351,8 @@ class HippocampalAgent:
             self.place.update_trace()
         if self.map is not None and self.pi.anchored:
             if dry or self.total_steps % c.run_map_every == 0:
-                self.map.observe(self.pi.estimate, heading, ranges, self.max_range, unknown_only=not (dry or c.map_in_runs))
+                mark = c.home_search_mark if self.homing_done else None
+                self.map.observe(self.pi.estimate, heading, ranges, self.max_range, not (dry or c.map_in_runs), mark)
             if dry:
                 if self.total_steps % c.recruit_every == 0:
                     self._recruit()
@@ -355,8 +360,18 @@ class HippocampalAgent:
                 self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, self.place.v[active])
             if collision and (dry or c.map_in_runs):
                 self.map.mark_bump(self.pi.estimate, heading, c.map_bump_distance)
+        if self.map is not None and not dry and self.pi.anchored and c.lost_bump_rate > 0:
+            self.bump_rate += (float(collision) - self.bump_rate) / c.bump_rate_steps
+            if self.bump_rate > c.lost_bump_rate:
+                self._relocalise()  # walls where the map shows free ground: a look-alike place
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
+            if self.last_decision == "home":
+                self.homing_bumps += 1
+                if self.homing_bumps >= c.home_bump_limit:
+                    self._memory_failed()  # the map's free way was not free: a look-alike place
+                elif not self.homing_done and self._home_distance() <= c.search_radius:
+                    self._start_local_search()  # on the last straight stretch: as near the place as the wall lets it
             self.intended_heading = float(self.rng.uniform(-math.pi, math.pi))
             self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
             if self.last_decision == "exploit" or self.map is not None:
@@ -441,6 +456,7 @@ class HippocampalAgent:
         self.pi.lose()
         self._candidates = None
         self.fit = 1.0
+        self.bump_rate = 0.0
 
     # ================================================================== learning
     def learn_reward(self) -> bool:
@@ -474,14 +490,17 @@ class HippocampalAgent:
         return a_star
 
     def _home_heading(self) -> float | None:
-        """Near where the current goal's reward was found (by path integration), go there.
+        """Toward where the current goal's reward was found (by path integration).
 
-        Within ``home_radius`` of that place, the heading there along the map's walkable path;
-        once there (``home_arrived``) without a reward, the heading to the nearest ground within
-        ``home_radius`` of it not yet searched in this run (a local search); when none is left,
-        the agent anchors afresh; after ``home_attempts`` such searches, :meth:`act` stops asking
-        for the rest of the run. ``None`` farther away, while the estimate is lost or doubted, and
-        on anchoring afresh."""
+        Within ``home_radius`` of that place: along the map's walkable path to ground within
+        ``search_radius`` of it (the place, where the robot entered the goal disk, may lie by a
+        wall, off the walkable map), then straight on. Once there (``home_arrived``), or stopped by
+        a wall on that last stretch, without the reward: a local search, the nearest ground within
+        ``home_search_radius`` not yet searched (afresh, marked ``home_search_mark`` wide). When
+        none is left, or after ``home_bump_limit`` bumps while homing, the agent anchors afresh;
+        after ``home_attempts`` such failures :meth:`act` stops asking for the rest of the run.
+        ``None`` farther away, with no known path, while the estimate is lost or doubted, and on
+        anchoring afresh."""
         c = self.config
         if c.home_radius <= 0.0 or self.map is None:
             return None
@@ -489,26 +508,46 @@ class HippocampalAgent:
         if target is None or not self.pi.anchored or self.fit < c.learn_agreement:
             return None
         here = self.pi.estimate
-        distance = float(np.hypot(*(target - here)))
+        distance = self._home_distance()
         if distance > c.home_radius:
             return None
-        if distance < c.home_arrived:
-            self.homing_done = True
+        if distance < c.home_arrived and not self.homing_done:
+            self._start_local_search()
         if self.homing_done:
-            heading = self.map.heading_to_unsearched_near(here, target, c.home_radius)
+            heading = self.map.heading_to_unsearched_near(here, target, c.home_search_radius)
             if heading is None:
-                # searched all round the place without finding the reward: the estimate is most
-                # likely at a look-alike place; anchor afresh, and home again once anchored
-                self._relocalise()
-                self.homing_done = False
-                self.memory_failures += 1
+                self._memory_failed()  # searched all round the place without finding the reward
+        elif distance <= c.search_radius:
+            heading = math.atan2(target[1] - here[1], target[0] - here[0])  # straight on; a bump ends homing
         else:
-            heading = self.map.heading_to(here, self.map.flat_index(*target))
-            if heading is None:  # in the target's map cell (or no known path): straight there
-                heading = math.atan2(target[1] - here[1], target[0] - here[0])
+            # the place itself may be by a wall, off the walkable map: path to walkable ground
+            # within search_radius of it, the ground from which the robot goes straight on
+            heading = self.map.heading_to_near(here, target, c.search_radius)
+            if heading is None:
+                return None  # no known path: preplay or exploration instead of pushing at a wall
         if heading is not None:
             self._new_segment(heading)
         return heading
+
+    def _memory_failed(self) -> None:
+        """Homing led nowhere: the estimate is most likely at a look-alike place; anchor afresh,
+        and home again once anchored (up to ``home_attempts`` times in a run)."""
+        self._relocalise()
+        self.homing_done = False
+        self.homing_bumps = 0
+        self.memory_failures += 1
+
+    def _home_distance(self) -> float:
+        """How far (m, by path integration) the remembered place of the current goal is; inf if none."""
+        target = self.reward.remembered_place()
+        return math.inf if target is None else float(np.hypot(*(target - self.pi.estimate)))
+
+    def _start_local_search(self) -> None:
+        """Arrived at the remembered place without the reward: search all round it afresh."""
+        self.homing_done = True
+        target = self.reward.remembered_place()
+        if self.map is not None and target is not None:
+            self.map.forget_searched_near(target, self.config.home_search_radius)
 
     def _clear_heading(self, heading: float, ranges: np.ndarray, facing: float) -> float:
         """``heading`` if the scan (``ranges``, ray 0 along ``facing``) shows ``exploit_clearance``

@@ -158,16 +158,25 @@ class AgentConfig:
     (model-figures: 1e-6, which the paper's model keeps; the paper does not say; it stops the
     agent from following imagined steps out of a place the reward map has never reached)."""
 
-    home_radius: float = 1.0
+    home_radius: float = 100.0
     """Within this distance (m, by path integration) of where the current goal's reward was found
     (the mean of the estimates at each reward), head there along the exploration map's walkable
-    path instead of preplaying (0 = off; needs directed exploration). Preplay brings the robot
-    near the goal, then dithers around the 0.3 m goal disk: in maze2, 71 % of the path of runs
-    2-4 beyond the shortest lay after the robot first came within 1 m of the goal."""
+    path instead of preplaying (0 = off; needs directed exploration; 100 m: from anywhere in
+    any arena the generator makes). Preplay follows the reward map's gradient, which bends at
+    doors and dithers round the 0.3 m goal disk; where the map knows no path, preplay steers."""
     home_arrived: float = 0.1
     """Once the estimate is this close (m) to the remembered place without a reward, the robot
-    searches the ground within ``home_radius`` of it not yet searched in the run; when none is
-    left, it anchors afresh (its estimate is most likely at a look-alike place)."""
+    searches the ground within ``home_search_radius`` of it not yet searched in the run; when none
+    is left, it anchors afresh (its estimate is most likely at a look-alike place)."""
+    home_search_radius: float = 1.0
+    """The radius (m) of that local search round the remembered place."""
+    home_search_mark: float = 0.25
+    """During the local search, ground within this distance (m) of the path counts as searched
+    (the run's search marks ``search_radius``). The remembered place is where the robot entered
+    the 0.3 m goal disk, at its edge; marked 0.6 m wide, a search round it passed the disk by."""
+    home_bump_limit: int = 20
+    """A robot that bumps into walls this many times while homing in one attempt (its map showed
+    the way free) takes its estimate to be at a look-alike place, as when a search finds nothing."""
     home_attempts: int = 2
     """After this many such searches without the reward in one run, the agent stops following its
     memory of the goal (home and reward map) for the rest of the run and searches the map; a
@@ -263,6 +272,13 @@ class AgentConfig:
     lost_agreement: float = 0.4
     """Once anchored, when the running mean of the scan's agreement with the map at the estimate
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
+    lost_bump_rate: float = 0.15
+    """Once anchored in a run, when the running mean of bumps per step (over about
+    ``bump_rate_steps``) exceeds this, the estimate is taken to be at a look-alike place (the map
+    shows free ground where there are walls) and anchored afresh (0 = off). A well-placed robot
+    bumps about 0.01 times a step; one following its map in the wrong room of a rooms maze, 0.3."""
+    bump_rate_steps: int = 50
+    """The window (steps) of that running mean."""
     learn_agreement: float = 0.6
     """In a run, the cells learn only while that running mean is at least this (-1: whenever
     anchored): an estimate at a look-alike place would teach the place code the wrong place."""
@@ -466,9 +482,14 @@ class AgentConfig:
             "Gamma_pb", "Gamma_pp", "xi", "xi_here", "turn_sigma_deg", "pi_gain", "pi_threshold", "pi_motion_noise", "pi_min_motion_noise"
         )
         non_negative("home_radius")
-        positive("home_arrived")
+        positive("home_search_radius", "home_search_mark", "home_arrived")
         if self.home_attempts < 1:
             raise bad("home_attempts", "an integer >= 1")
+        non_negative("lost_bump_rate")
+        if self.bump_rate_steps < 1:
+            raise bad("bump_rate_steps", "an integer >= 1")
+        if self.home_bump_limit < 1:
+            raise bad("home_bump_limit", "an integer >= 1")
         positive("pi_sigma", "pi_field_radius", "pi_centre_max_mass", "pi_vote_sigma", "pi_anchor_radius")
         if self.pi_particles < 2:
             raise bad("pi_particles", "an integer >= 2")

@@ -83,11 +83,19 @@ class ExplorationMap:
         self._search_id = np.zeros(1, dtype=np.int32)
 
     # ------------------------------------------------------------------ senses
-    def observe(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, unknown_only: bool = False) -> None:
+    def observe(
+        self,
+        position: np.ndarray,
+        heading: float,
+        ranges: np.ndarray,
+        max_range: float,
+        unknown_only: bool = False,
+        search_radius: float | None = None,
+    ) -> None:
         """Enter one scan (egocentric ``ranges``, ray ``i`` at ``heading + 2 pi i / n``) seen from
-        ``position`` (frame metres), and mark the cells around ``position`` visited and searched.
-        With ``unknown_only``, the scan enters only the cells the map knows nothing of yet: what it
-        knows stays as it is."""
+        ``position`` (frame metres), and mark the cells around ``position`` visited and searched
+        (within ``search_radius``, by default the map's). With ``unknown_only``, the scan enters
+        only the cells the map knows nothing of yet: what it knows stays as it is."""
         n_rays = ranges.size
         stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
         _enter_scan(
@@ -95,7 +103,14 @@ class ExplorationMap:
             float(max_range), self.extent, self.cell, self.free_range, self.hit_range, unknown_only,
         )  # fmt: skip
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
-        _mark_disk(self.searched, float(position[0]), float(position[1]), self.search_radius, self.extent, self.cell)
+        radius = self.search_radius if search_radius is None else float(search_radius)
+        _mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
+
+    def forget_searched_near(self, centre: np.ndarray, radius: float) -> None:
+        """Count the ground within ``radius`` of ``centre`` as not searched in this run."""
+        inside = np.zeros_like(self.searched)
+        _mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
+        self.searched[inside] = False
 
     def mark_bump(self, position: np.ndarray, heading: float, distance: float) -> None:
         """A bump: the cell ``distance`` ahead is a wall, whatever the rays said."""
@@ -133,11 +148,16 @@ class ExplorationMap:
     def heading_to_unsearched_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
         """The heading (rad) toward the nearest walkable cell within ``radius`` of ``centre`` not
         yet searched in this run; ``None`` if none can be reached: a local search."""
-        known = np.ones_like(self.searched)
-        inside = np.zeros_like(self.searched)
-        _mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
-        known[inside] = self.searched[inside]
-        return self._plan(position, known, -1)
+        return self._plan_into_disk(position, centre, radius, self.searched)
+
+    def heading_to_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
+        """The heading (rad) along the walkable path to the first walkable cell within ``radius``
+        of ``centre`` other than the robot's own (a place by a wall is not walkable itself), or,
+        when there is no such path, through any free cell that is not a wall (a doorway too narrow
+        for walkable cells may wall the place off); ``None`` if there is no path either way."""
+        none_done = np.zeros_like(self.searched)
+        heading = self._plan_into_disk(position, centre, radius, none_done)
+        return self._plan_into_disk(position, centre, radius, none_done, squeeze=True) if heading is None else heading
 
     def heading_to(self, position: np.ndarray, target: int) -> float | None:
         """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
@@ -167,6 +187,16 @@ class ExplorationMap:
             self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze
         )
         return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
+
+    def _plan_into_disk(
+        self, position: np.ndarray, centre: np.ndarray, radius: float, done: np.ndarray, squeeze: bool = False
+    ) -> float | None:
+        """Plan to the nearest walkable cell within ``radius`` of ``centre`` that ``done`` does not hold."""
+        known = np.ones_like(done)
+        inside = np.zeros_like(done)
+        _mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
+        known[inside] = done[inside]
+        return self._plan(position, known, -1, squeeze)
 
     def _plan(self, position: np.ndarray, known: np.ndarray, target: int, squeeze: bool = False) -> float | None:
         path = self.path(position, target, known, squeeze)

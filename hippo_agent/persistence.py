@@ -65,7 +65,12 @@ STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("total_steps", int),
 )
 # Behaviour state added within format version 4, with the value a file without it loads.
-LATER_STATE: tuple[tuple[str, Callable[[Any], Any], Any], ...] = (("homing_done", bool, False), ("memory_failures", int, 0))
+LATER_STATE: tuple[tuple[str, Callable[[Any], Any], Any], ...] = (
+    ("homing_done", bool, False),
+    ("memory_failures", int, 0),
+    ("homing_bumps", int, 0),
+    ("bump_rate", float, 0.0),
+)
 # The path integrator's, under "state" -> "pi".
 PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("frame_started", bool),

@@ -407,6 +407,80 @@ def test_a_search_round_the_remembered_place_that_finds_nothing_anchors_afresh(s
     assert not agent.pi.anchored and not agent.homing_done
 
 
+def test_homing_to_a_place_by_a_wall_paths_beside_it_and_a_bump_there_starts_the_search(small_maze):
+    """A remembered place by a wall lies off the map's walkable ground: homing plans to walkable
+    ground beside it (not straight at it through whatever is in the way), never pushes when no
+    path is known, and a bump on the last straight stretch counts as arriving."""
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500, home_radius=10.0), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    info, _, _ = drive_run(env, agent, options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    assert info["is_success"]
+    offset = agent.frame_offset(env.unwrapped)
+    by_the_wall = np.array([1.95, 0.0]) - offset  # the arena's east wall is at x = 2
+    agent.reward.found_sum[-1] = by_the_wall * agent.reward.found_count[-1]
+    agent.pi.estimate = np.array([-1.0, 0.0]) - offset
+    assert agent.map.heading_to(agent.pi.estimate, agent.map.flat_index(*by_the_wall)) is None  # off the walkable map
+    heading = agent._home_heading()
+    assert heading is not None and math.cos(heading) > 0.5, heading
+    free = agent.map.free.copy()
+    agent.map.free[:] = 0  # no known ground: no path
+    assert agent._home_heading() is None
+    agent.map.free[:] = free
+    obs, info = env.reset(options={"goal": [-1.2, -1.2], "start": [1.2, 0.0], "heading": 0.0})  # (a goal elsewhere)
+    agent.reset(obs, info)
+    agent.reward.found_sum[-1] = (np.array([1.95, 0.0]) - agent.frame_offset(env.unwrapped)) * agent.reward.found_count[-1]
+    for _ in range(80):  # home until the first bump
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        if info["collision"]:
+            break
+    assert agent.last_decision == "home" and info["collision"]
+    assert agent.homing_done  # the robot's centre cannot come within home_arrived of the place: the bump ended homing
+
+
+def test_bumping_into_walls_while_homing_counts_as_a_failed_search(small_maze):
+    """The map showed the way free, yet the robot kept bumping: its estimate is taken to be at a
+    look-alike place, as when the search round the place finds nothing."""
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(dry_run_steps=1500, home_bump_limit=3), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    info, _, _ = drive_run(env, agent, options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    assert info["is_success"]
+    obs, info = env.reset(options={"start": [-1.3, 1.3], "heading": 0.0})
+    agent.reset(obs, info)
+    agent.last_decision = "home"
+    for bumps in range(1, 4):
+        agent.observe(0, obs, 0.0, False, False, {"collision": True})
+        agent.last_decision = "home"
+        assert agent.memory_failures == (bumps == 3) and agent.pi.anchored == (bumps < 3 and agent.pi.anchored)
+    assert agent.homing_bumps == 0
+
+
+@pytest.mark.parametrize("lost_bump_rate", [0.0, 0.15])
+def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate):
+    """Bumps where the map shows free ground mean a look-alike place: once the running mean of
+    bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
+    estimate is dropped; with 0, never."""
+    env = make_env(small_maze, seed=1)
+    config = AgentConfig(dry_run_steps=1500, lost_bump_rate=lost_bump_rate)
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    agent.reset(obs, info)
+    finish_run(env, agent, obs, 30)
+    assert agent.pi.anchored
+    anchored = []
+    for _ in range(9):
+        agent.observe(0, obs, 0.0, False, False, {"collision": True})
+        anchored.append(agent.pi.anchored)
+    assert anchored == [True] * 9 if lost_bump_rate == 0 else anchored == [True] * 8 + [False]
+
+
 def test_after_home_attempts_failed_searches_the_agent_searches_the_map_and_the_new_find_replaces_the_memory(small_maze):
     """Its memory of the goal led nowhere ``home_attempts`` times in a run (most likely written
     while misplaced): for the rest of the run neither homing nor the reward map steers, and the

@@ -226,3 +226,25 @@ def test_local_search_heads_for_unsearched_ground_near_a_place_until_none_is_lef
             m.observe(np.array([x, y]), 0.0, ring_scan(radius=3.0 - math.hypot(x, y)), max_range=10.0, unknown_only=True)
     assert m.heading_to_unsearched_near(np.zeros(2), centre, 0.8) is None  # all of the disk searched
     assert m.heading_to_unvisited(np.zeros(2), this_run=True) is not None  # (ground farther away is not)
+
+
+def test_planning_near_a_place_by_a_wall_ends_on_walkable_ground_beside_it():
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    by_the_wall = np.array([1.95, 0.0])
+    assert m.heading_to(np.zeros(2), m.flat_index(*by_the_wall)) is None  # the place itself is not walkable
+    heading = m.heading_to_near(np.array([-1.0, 0.0]), by_the_wall, 0.6)
+    assert heading is not None and math.cos(heading) > 0.5  # (an 8-connected path: up to 45 degrees off)
+
+
+def test_a_local_search_marks_a_narrower_path_and_starts_afresh_round_the_place():
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.6})
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0)
+    assert m.searched[m.index(0.4, 0.0)]  # the run's search marks 0.6 m round the robot
+    m.new_run()
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0, search_radius=0.25)
+    assert m.searched[m.index(0.0, 0.0)] and not m.searched[m.index(0.4, 0.0)]
+    m.observe(np.array([1.0, 0.0]), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    m.forget_searched_near(np.array([1.0, 0.0]), 0.5)
+    assert not m.searched[m.index(1.0, 0.0)] and not m.searched[m.index(1.3, 0.0)]
+    assert m.searched[m.index(0.0, 0.0)] and m.searched[m.index(1.3, 0.3)]  # outside the disk: kept
