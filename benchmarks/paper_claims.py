@@ -64,7 +64,7 @@ def write_claims(args: ClaimsArgs) -> Path:
             "Each claim of the paper beside what `benchmarks/paper.py` measured with the model as the paper describes it "
             "(`AgentConfig.paper()`: the rangefinder and the compass only) and with the default model (`AgentConfig()`: "
             "wheel odometry integrated into a position estimate, a dry run directed by the agent's own map with `W_pp` "
-            "learning, and homing near where the goal was found). "
+            "learning, and homing along its map to where the goal was found). "
             "The criteria behind each verdict, the figures and the details are in each model's own report; which verdicts "
             "moved with each change of the model, and why, is in [CHANGELOG.md](../../CHANGELOG.md)."
         ),

@@ -116,6 +116,11 @@ def test_rejects_unsupported_observation_spaces():
         ("home_radius", -1.0, ">= 0"),
         ("home_arrived", 0.0, "> 0"),
         ("home_attempts", 0, ">= 1"),
+        ("home_search_radius", 0.0, "> 0"),
+        ("home_search_mark", -0.1, "> 0"),
+        ("home_bump_limit", 0, ">= 1"),
+        ("lost_bump_rate", -0.1, ">= 0"),
+        ("bump_rate_steps", 0, ">= 1"),
     ],
 )
 def test_bad_config_raises_naming_the_field(field, value, allowed):

@@ -115,13 +115,8 @@ def test_round_trip_is_exact(tmp_path, action_space):
         np.testing.assert_array_equal(a, b)
     assert loaded.rng.bit_generator.state == agent.rng.bit_generator.state
     assert agent.reward.remembered_place() is not None  # where the fixture's goal was found
-    assert (loaded.intended_heading, loaded.segment_left, loaded.goal_rewarded, loaded.homing_done, loaded.memory_failures) == (
-        agent.intended_heading,
-        agent.segment_left,
-        agent.goal_rewarded,
-        agent.homing_done,
-        agent.memory_failures,
-    )
+    later = ("intended_heading", "segment_left", "goal_rewarded", "homing_done", "memory_failures", "homing_bumps", "bump_rate")
+    assert [getattr(loaded, name) for name in later] == [getattr(agent, name) for name in later]
     assert type(loaded.action_space) is type(agent.action_space)
     # the future is identical: same actions from the same observations, same weights after
     pos, heading = env.pos.copy(), env.heading
@@ -173,11 +168,13 @@ def test_a_file_without_the_remembered_goal_places_loads_with_none_found(tmp_pat
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files if k not in ("found_sum", "found_count")}
     meta = json.loads(str(arrays["__meta__"]))
-    del meta["state"]["homing_done"], meta["state"]["memory_failures"]
+    for name in ("homing_done", "memory_failures", "homing_bumps", "bump_rate"):
+        del meta["state"][name]
     arrays["__meta__"] = np.array(json.dumps(meta))
     np.savez(tmp_path / "older.npz", **arrays)
     loaded = HippocampalAgent.load(tmp_path / "older.npz")
     assert loaded.reward.remembered_place() is None and not loaded.homing_done and loaded.memory_failures == 0
+    assert loaded.homing_bumps == 0 and loaded.bump_rate == 0.0
     np.testing.assert_array_equal(loaded.reward.W_rp, agent.reward.W_rp)
     # a remembered place of the wrong shape is refused, naming the array
     arrays["found_sum"] = np.zeros((3, 2))
