@@ -68,7 +68,9 @@ def method() -> dict[str, Any]:
 
 @contextlib.contextmanager
 def _seeded(seed: int) -> Iterator[None]:
-    """NumPy's global generator seeded (rliable resamples with it), its state restored afterwards."""
+    """NumPy's global generator seeded, its state restored afterwards. rliable's
+    ``StratifiedBootstrap.update_indices`` draws with ``np.random.choice`` even when given a
+    ``random_state`` (rliable 1.x), so a Generator cannot be passed in its place."""
     state = np.random.get_state()
     np.random.seed(seed)
     try:
