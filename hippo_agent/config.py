@@ -223,8 +223,11 @@ class AgentConfig:
     """Ground within this distance (m) counts as searched in a run, whose lanes are then about
     this far apart: twice the goal disk's radius, so a run that has searched everywhere has
     passed over the goal."""
-    explore_lookahead: float = 0.75
-    """Directed exploration heads for the point this far (m) along its planned path."""
+    explore_lookahead: float = 2.0
+    """Directed exploration and homing head for the farthest cell of the planned path, up to this
+    far along it (m, counted as ``map_cell`` per cell), that a straight line reaches over walkable
+    ground: the search's 8-connected paths zig-zag, and a fixed point along them pointed up to 45
+    degrees off the way."""
     transit_factor: float = 0.9
     """Directed dry run: once nothing unvisited is reachable, cross the known ground along
     shortest paths between random visited places for this many times the steps the sweep took,
@@ -242,10 +245,12 @@ class AgentConfig:
     is tuned; in a 20 m arena 1000 cells would almost all be in use."""
     max_place_cells: int = 16000
     """The most place cells recruitment grows to (none is recruited beyond ``n_place`` if that is more)."""
-    pi_min_anchor_steps: int = 20
+    pi_min_anchor_steps: int = 5
     """A run's estimate is anchored no sooner than this many steps after the robot was put down
     (or found misplaced), so that the exploration map's fit (``map_beta``) accumulates over
-    several scans and tells apart look-alike rooms whose difference is a door or two."""
+    several scans and tells apart look-alike rooms whose difference is a door or two. Not more:
+    until anchored the robot cannot home, and a misplaced anchoring is caught by the checks that
+    anchor afresh (``lost_agreement``, ``home_bump_limit``, ``lost_bump_rate``)."""
     map_beta: float = 10.0
     """While a run's estimate is not anchored, each path-integration sample is weighed by
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the

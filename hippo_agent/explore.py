@@ -14,7 +14,9 @@ The map is a grid in the path-integration frame (``cell`` metres a side) holding
 
 A cell is *walkable* when it is known free and no wall lies within one cell of it (the robot's
 radius, 0.17 m, fits inside a 0.25 m cell). The planner runs a breadth-first search over walkable
-cells from the robot's cell and heads ``lookahead`` metres along the path to
+cells from the robot's cell and heads straight for the farthest point of the path, at most
+``lookahead`` metres along it, that a straight line from the robot reaches over walkable cells
+(the search's 8-connected paths zig-zag; the robot need not), along a path to
 
 - the nearest walkable cell not yet visited (:meth:`ExplorationMap.heading_to_unvisited`: the
   dry run's sweep), or not yet searched in this run (the search for a hidden goal), or
@@ -39,7 +41,7 @@ class ExplorationMap:
         cell: grid cell side (m).
         visit_radius: cells within this distance (m) of the robot count as visited.
         search_radius: cells within this distance (m) count as searched in the current run.
-        lookahead: the planner heads for the point this far (m) along its path.
+        lookahead: the planner heads for the farthest point in sight at most this far (m) along its path.
         free_range: a ray marks cells free up to this distance (m).
         hit_range: a ray ending nearer than this (m) marks a wall.
         ray_stride_deg: one ray of a scan every this many degrees enters the map.
@@ -202,7 +204,9 @@ class ExplorationMap:
         path = self.path(position, target, known, squeeze)
         if path.size < 2:
             return None
-        wx, wy = self.centre(path[min(self.lookahead_cells, path.size - 1)])
+        gx, gy = (position[0] + self.extent) / self.cell, (position[1] + self.extent) / self.cell
+        k = _farthest_in_sight(self.free, self.hits, path, gx, gy, self.lookahead_cells, squeeze)
+        wx, wy = self.centre(path[k])
         return math.atan2(wy - position[1], wx - position[0])
 
     # ------------------------------------------------------------------ measures
@@ -419,6 +423,30 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
                 queue[tail] = nxt
                 tail += 1
     return found, tail
+
+
+@njit(cache=True)
+def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze):  # pragma: no cover - compiled
+    """The index of the farthest cell along ``path`` (at most ``most`` cells on, at least 1) that a
+    straight line from ``(gx, gy)`` (grid units) reaches over passable cells only: the planner heads
+    straight for it, not along the search's 8-connected zig-zags."""
+    n = free.shape[0]
+    best = 1
+    for k in range(2, min(most, path.size - 1) + 1):
+        tx, ty = path[k] // n + 0.5, path[k] % n + 0.5
+        samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
+        clear = True
+        for s in range(1, samples + 1):
+            x = gx + (tx - gx) * s / samples
+            y = gy + (ty - gy) * s / samples
+            near = squeeze or (x - gx) ** 2 + (y - gy) ** 2 <= 4.0  # a robot by a wall leaves it over free cells
+            if not _passable(free, hits, int(x), int(y), near):
+                clear = False
+                break
+        if not clear:
+            break
+        best = k
+    return best
 
 
 @njit(cache=True)

@@ -87,6 +87,23 @@ def test_path_goes_around_a_wall():
     assert not any(m.hits[divmod(int(c), m.n)] for c in path)
 
 
+def test_the_planner_heads_straight_for_a_point_in_sight_not_along_the_search_grid():
+    """The breadth-first search's 8-connected path to a place 18 degrees off the grid's axes runs
+    diagonally first; across open ground the planner heads straight at the path's farthest point
+    in sight instead. Behind a wall, the point in sight is round the wall's end."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.free[:] = 1
+    start, target = np.array([0.0, 0.0]), np.array([1.5, 0.5])
+    heading = m.heading_to(start, m.flat_index(*target))
+    assert heading is not None
+    cx, cy = m.centre(m.flat_index(*target))
+    assert abs(heading - math.atan2(cy - start[1], cx - start[0])) < math.radians(5), math.degrees(heading)
+    wall_row = m.index(0.75, 0.0)[0]
+    m.hits[wall_row, m.index(0.0, -3.0)[1] : m.index(0.0, 0.5)[1]] = 5  # a wall along x = 0.75 up to y = 0.5
+    heading = m.heading_to(start, m.flat_index(*target))
+    assert heading is not None and 0.75 * math.tan(heading) > 0.5, math.degrees(heading)  # passes the wall's end
+
+
 def test_a_search_squeezes_through_a_doorway_the_map_holds_too_narrow():
     """A doorway one free cell wide has walls in every 3 x 3 block along it, so no walkable path
     leads through: the plain search finds nothing left, the squeezing one plans through it."""
