@@ -226,8 +226,8 @@ class AgentConfig:
     explore_lookahead: float = 2.0
     """Directed exploration and homing head for the farthest cell of the planned path, up to this
     far along it (m, counted as ``map_cell`` per cell), that a straight line reaches over walkable
-    ground: the search's 8-connected paths zig-zag, and a fixed point along them pointed up to 45
-    degrees off the way."""
+    ground: the search's 8-connected paths zig-zag, and a point a fixed distance along them can lie
+    well off the straight way."""
     transit_factor: float = 0.9
     """Directed dry run: once nothing unvisited is reachable, cross the known ground along
     shortest paths between random visited places for this many times the steps the sweep took,

@@ -88,9 +88,9 @@ def test_path_goes_around_a_wall():
 
 
 def test_the_planner_heads_straight_for_a_point_in_sight_not_along_the_search_grid():
-    """The breadth-first search's 8-connected path to a place 18 degrees off the grid's axes runs
-    diagonally first; across open ground the planner heads straight at the path's farthest point
-    in sight instead. Behind a wall, the point in sight is round the wall's end."""
+    """The breadth-first search's 8-connected path to a place about 20 degrees off the grid's axes
+    zig-zags; across open ground the planner heads straight at the path's farthest point in sight
+    instead. Behind a wall, the point in sight is round the wall's end."""
     m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.free[:] = 1
     start, target = np.array([0.0, 0.0]), np.array([1.5, 0.5])
