@@ -451,9 +451,10 @@ class HippocampalAgent:
         if self.fit < self.config.lost_agreement:
             self._relocalise()
 
-    def _relocalise(self) -> None:
-        """The estimate is taken to be at a look-alike place: anchor afresh from the map."""
-        self.pi.lose()
+    def _relocalise(self, rule_out: bool = False) -> None:
+        """The estimate is taken to be at a look-alike place: anchor afresh from the map (with
+        ``rule_out``, away from the place the estimate was at)."""
+        self.pi.lose(rule_out=rule_out)
         self._candidates = None
         self.fit = 1.0
         self.bump_rate = 0.0
@@ -530,9 +531,10 @@ class HippocampalAgent:
         return heading
 
     def _memory_failed(self) -> None:
-        """Homing led nowhere: the estimate is most likely at a look-alike place; anchor afresh,
-        and home again once anchored (up to ``home_attempts`` times in a run)."""
-        self._relocalise()
+        """Homing led nowhere: the estimate is most likely at a look-alike place; anchor afresh
+        elsewhere (``pi_rule_out_radius``), and home again once anchored (up to ``home_attempts``
+        times in a run)."""
+        self._relocalise(rule_out=True)
         self.homing_done = False
         self.homing_bumps = 0
         self.memory_failures += 1

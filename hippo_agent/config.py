@@ -178,10 +178,12 @@ class AgentConfig:
     home_bump_limit: int = 20
     """A robot that bumps into walls this many times while homing in one attempt (its map showed
     the way free) takes its estimate to be at a look-alike place, as when a search finds nothing."""
-    home_attempts: int = 2
+    home_attempts: int = 3
     """After this many such searches without the reward in one run, the agent stops following its
     memory of the goal (home and reward map) for the rest of the run and searches the map; a
-    reward found then replaces the memory (the memory was most likely written while misplaced)."""
+    reward found then replaces the memory (the memory was most likely written while misplaced).
+    Each failed search rules out the place the estimate was at (``pi_rule_out_radius``), so each
+    attempt anchors in a different look-alike room."""
 
     # ---------------------------------------------------------------- exploration
     segment_min: int = 5
@@ -275,6 +277,11 @@ class AgentConfig:
     """On anchoring, the samples farther than twice ``pi_anchor_radius`` from the estimate are
     dropped, so that a look-alike place that the boundary code's vote favours cannot take the
     estimate over afterwards."""
+    pi_rule_out_radius: float = 2.0
+    """When a search round the remembered place fails (``home_attempts``), the robot is taken not
+    to be where it was estimated: until it anchors again, samples within this distance (m) of
+    that place, carried along by odometry, are weighed down, so the fresh anchoring does not land
+    in the look-alike room just ruled out (0 = off)."""
     lost_agreement: float = 0.4
     """Once anchored, when the running mean of the scan's agreement with the map at the estimate
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
@@ -501,7 +508,7 @@ class AgentConfig:
             raise bad("pi_particles", "an integer >= 2")
         unit_interval("pi_anchor_weight", "pi_redraw_fraction")
         unit_interval("pi_proposal_share", "pi_lost_vote_floor", open_low=False)
-        non_negative("map_proposals", "exploit_clearance", "pi_far_inhibition")
+        non_negative("map_proposals", "exploit_clearance", "pi_far_inhibition", "pi_rule_out_radius")
         if self.run_map_every < 1:
             raise bad("run_map_every", "an integer >= 1")
         if self.exploration not in ("random", "directed"):
@@ -583,6 +590,7 @@ class AgentConfig:
             "lost_vote_floor": self.pi_lost_vote_floor,
             "proposal_share": self.pi_proposal_share,
             "collapse_on_anchor": self.pi_collapse_on_anchor,
+            "rule_out_radius": self.pi_rule_out_radius,
         }
 
     def map_kwargs(self) -> dict[str, Any]:

@@ -105,7 +105,7 @@ def save(agent: Any, path: str | os.PathLike) -> None:
         "state": {
             **{name: getattr(agent, name) for name, _ in STATE},
             **{name: getattr(agent, name) for name, _, _ in LATER_STATE},
-            "pi": {name: getattr(agent.pi, name) for name, _ in PI_STATE},
+            "pi": {**{name: getattr(agent.pi, name) for name, _ in PI_STATE}, "ruled_out": agent.pi.ruled_out.tolist()},
         },
     }
     arrays = {name: getattr(target, attr) for name, target, attr in _array_slots(agent)}
@@ -199,6 +199,10 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             setattr(agent, name, read(st.get(name, default)))
         for name, read in PI_STATE:
             setattr(agent.pi, name, read(st["pi"][name]))
+        ruled_out = np.asarray(st["pi"].get("ruled_out", []), dtype=np.float64).reshape(-1, 2)  # (added within version 4)
+        if not np.all(np.isfinite(ruled_out)):
+            raise ValueError("the path integrator's 'ruled_out' places are not finite")
+        agent.pi.ruled_out = ruled_out
     except ValueError as exc:
         raise ValueError(f"{what}: {exc}") from exc
     except (KeyError, TypeError, AttributeError) as exc:

@@ -161,6 +161,21 @@ def test_a_file_whose_config_lacks_later_fields_loads_with_their_defaults(tmp_pa
     assert [agent.act(obs) for _ in range(50)] == [loaded.act(obs) for _ in range(50)]
 
 
+def test_places_ruled_out_while_re_anchoring_survive_a_save_and_older_files_have_none(tmp_path):
+    _, agent = trained_agent()
+    agent.pi.estimate = np.array([1.0, -0.5])
+    agent._memory_failed()  # a search round the remembered place failed: the estimate's place is ruled out
+    agent.save(tmp_path / "agent.npz")
+    np.testing.assert_array_equal(HippocampalAgent.load(tmp_path / "agent.npz").pi.ruled_out, [[1.0, -0.5]])
+    with np.load(tmp_path / "agent.npz") as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(str(arrays["__meta__"]))
+    del meta["state"]["pi"]["ruled_out"]
+    arrays["__meta__"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "older.npz", **arrays)
+    assert HippocampalAgent.load(tmp_path / "older.npz").pi.ruled_out.shape == (0, 2)
+
+
 def test_a_file_without_the_remembered_goal_places_loads_with_none_found(tmp_path):
     _, agent = trained_agent()
     path = tmp_path / "agent.npz"

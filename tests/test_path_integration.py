@@ -146,6 +146,38 @@ def test_a_place_the_vote_leaves_out_wins_when_proposed_and_the_map_fits_it_bett
     assert aided.anchored and np.linalg.norm(aided.estimate - right) < 0.5
 
 
+def test_an_estimate_found_wrong_is_ruled_out_when_anchoring_afresh():
+    """Twin rooms whose scans favour the wrong one: anchored there and found wrong (a search that
+    failed), the integrator anchors afresh at the other twin only if it rules out where it was,
+    carried along by the odometry while it re-anchors."""
+    wrong, right = np.array([-2.5, 0.0]), np.array([2.5, 0.0])
+
+    def fit(particles):  # the scans fit the wrong twin a little better
+        return 1.0 + 0.5 * np.exp(-np.sum((particles - wrong) ** 2, axis=1) / (2 * 0.5**2))
+
+    def anchor_afresh(rule_out):
+        pi = integrator(proposal_share=0.5, lost_vote_floor=0.2, collapse_on_anchor=True, rule_out_radius=2.0)
+        pi.start_run()
+        pi.start_run()
+        twins = np.vstack((wrong, right))
+        for _ in range(25):
+            pi.correct(np.array([0.5, 0.5]), twins, likelihood=fit)
+        assert pi.anchored and np.linalg.norm(pi.estimate - wrong) < 0.5
+        pi.lose(rule_out=rule_out)
+        step = np.array([0.0, 0.1])
+        for i in range(1, 26):
+            pi.move(step)
+            moved = i * step  # the rooms as the odometry now places them
+            pi.correct(np.array([0.5, 0.5]), twins + moved, likelihood=lambda p, moved=moved: fit(p - moved))
+        return pi
+
+    again = anchor_afresh(rule_out=False)
+    assert again.anchored and np.linalg.norm(again.estimate - (wrong + [0.0, 2.5])) < 0.5
+    ruled = anchor_afresh(rule_out=True)
+    assert ruled.anchored and np.linalg.norm(ruled.estimate - (right + [0.0, 2.5])) < 0.5
+    assert len(ruled.ruled_out) == 0  # anchored again: the evidence was used up
+
+
 def test_cells_that_also_fire_at_a_look_alike_place_vote_weakly():
     pi = integrator()
     pi.start_run()

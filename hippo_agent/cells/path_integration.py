@@ -39,6 +39,9 @@ Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentCon
         ``proposals`` (when given) instead of the vote.
     collapse_on_anchor: on anchoring, drop the samples outside the anchored cluster
         (:meth:`_keep_cluster`).
+    rule_out_radius: when the estimate is found wrong (:meth:`lose` with ``rule_out``), samples
+        within this distance (m) of where it was, carried along by the odometry, are weighed down
+        until the estimate is anchored again (0 = off).
     min_anchor_steps: a lost estimate is not anchored before this many corrections, so that
         evidence that accumulates (a map's fit, :meth:`correct`'s ``likelihood``) can single out
         one of several look-alike places.
@@ -61,6 +64,9 @@ import numpy as np
 from hippo_agent.cells import _kernels
 
 __all__ = ["PathIntegrator"]
+
+RULED_OUT_WEIGHT = 1e-3
+"""The share of its weight a sample keeps near a place ruled out (:meth:`PathIntegrator.lose`)."""
 
 
 class PathIntegrator:
@@ -85,6 +91,7 @@ class PathIntegrator:
         lost_vote_floor: float | None = None,
         proposal_share: float = 0.0,
         collapse_on_anchor: bool = False,
+        rule_out_radius: float = 0.0,
     ) -> None:
         self.n_particles = int(n_particles)
         self.rng = rng
@@ -106,6 +113,8 @@ class PathIntegrator:
         self.lost_vote_floor = float(vote_floor if lost_vote_floor is None else lost_vote_floor)
         self.proposal_share = float(proposal_share)
         self.collapse_on_anchor = bool(collapse_on_anchor)
+        self.rule_out_radius = float(rule_out_radius)
+        self.ruled_out = np.empty((0, 2))  # where estimates found wrong since the last anchoring are now, by odometry
         self.lost_steps = 0  # corrections since the estimate was last lost
         self.min_mapped = float(min_mapped)
         self.vote_floor = float(vote_floor)
@@ -117,6 +126,7 @@ class PathIntegrator:
         """A run begins. The first ever run sets the frame (origin here); later ones are kidnaps."""
         self.last_step = np.zeros(2)
         self.lost_steps = 0
+        self.ruled_out = np.empty((0, 2))
         if not self.frame_started:
             self.frame_started = True
             self.particles[:] = 0.0
@@ -136,6 +146,7 @@ class PathIntegrator:
         if spread > 0:
             self.rng.standard_normal(out=self._noise)
         _kernels.shift(self.particles, self.last_step, spread, self._noise)
+        self.ruled_out += self.last_step
 
     def correct(
         self,
@@ -191,10 +202,16 @@ class PathIntegrator:
             self.weights /= self.weights.sum()
             if 1.0 / np.sum(self.weights**2) < self.resample_ess * self.n_particles:
                 self._resample()
+        if not self.anchored and len(self.ruled_out):
+            self._weigh_down_ruled_out()
         self._summarise()
 
-    def lose(self) -> None:
-        """The estimate is known to be wrong: anchor afresh, as after a kidnap."""
+    def lose(self, rule_out: bool = False) -> None:
+        """The estimate is known to be wrong: anchor afresh, as after a kidnap. With ``rule_out``
+        (and ``rule_out_radius`` > 0), the robot is known not to be where the estimate is: until
+        anchored again, samples near there are weighed down (:meth:`_weigh_down_ruled_out`)."""
+        if rule_out and self.rule_out_radius > 0.0:
+            self.ruled_out = np.vstack((self.ruled_out, self.estimate))
         self.anchored = False
         self.fresh = True
         self.confidence = 0.0
@@ -221,6 +238,18 @@ class PathIntegrator:
         self.weights[which] = 1.0 / self.n_particles
         self.weights /= self.weights.sum()
 
+    def _weigh_down_ruled_out(self) -> None:
+        """Samples within ``rule_out_radius`` of a place ruled out keep ``RULED_OUT_WEIGHT`` of their
+        weight: strong evidence against them, but not a zero, which could leave no weight at all."""
+        d2 = np.min(np.sum((self.particles[:, None, :] - self.ruled_out[None, :, :]) ** 2, axis=2), axis=1)
+        near = d2 < self.rule_out_radius**2
+        if not near.any():
+            return
+        self.weights[near] *= RULED_OUT_WEIGHT
+        self.weights /= self.weights.sum()
+        if 1.0 / np.sum(self.weights**2) < self.resample_ess * self.n_particles:
+            self._resample()
+
     def _keep_cluster(self) -> None:
         """Anchoring commits to the cluster: the samples farther than twice ``anchor_radius``
         from the estimate are dropped (the rest resampled), so that a look-alike place the vote still favours cannot take the estimate
@@ -246,5 +275,6 @@ class PathIntegrator:
         self.estimate = np.array([x, y])
         if not self.anchored and not self.fresh and self.confidence >= self.anchor_weight and self.lost_steps >= self.min_anchor_steps:
             self.anchored = True  # (a fresh belief is still where the last run ended: no evidence yet)
+            self.ruled_out = np.empty((0, 2))
             if self.collapse_on_anchor:
                 self._keep_cluster()
