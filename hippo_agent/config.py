@@ -182,8 +182,8 @@ class AgentConfig:
     """After this many such searches without the reward in one run, the agent stops following its
     memory of the goal (home and reward map) for the rest of the run and searches the map; a
     reward found then replaces the memory (the memory was most likely written while misplaced).
-    Each failed search rules out the place the estimate was at (``pi_rule_out_radius``), so each
-    attempt anchors in a different look-alike room."""
+    Each failed search rules out the place the estimate was at (``pi_rule_out_radius``), so the
+    next attempt does not anchor in the room just searched."""
 
     # ---------------------------------------------------------------- exploration
     segment_min: int = 5
