@@ -146,6 +146,22 @@ def test_a_place_the_vote_leaves_out_wins_when_proposed_and_the_map_fits_it_bett
     assert aided.anchored and np.linalg.norm(aided.estimate - right) < 0.5
 
 
+def test_a_belief_spread_round_one_place_by_the_vote_anchors_there_without_delay():
+    """With the agent's defaults, a kidnapped integrator whose vote comes from cells round one place
+    (and a little from a look-alike 5 m away) anchors there as soon as it may (``pi_min_anchor_steps``):
+    its candidate place is as wide as the vote spreads the samples."""
+    config = AgentConfig()
+    for seed in range(5):
+        pi = PathIntegrator(config.pi_particles, np.random.default_rng(seed), **config.path_integrator_kwargs())
+        pi.start_run()
+        pi.start_run()
+        cells = np.random.default_rng(100 + seed)
+        centres = np.vstack((cells.normal([0.0, 0.0], 0.3, (12, 2)), cells.normal([5.0, 0.0], 0.3, (2, 2))))
+        for _ in range(config.pi_min_anchor_steps):
+            pi.correct(np.full(len(centres), 0.5), centres)
+        assert pi.anchored and np.linalg.norm(pi.estimate) < 0.4
+
+
 def test_an_estimate_found_wrong_is_ruled_out_when_anchoring_afresh():
     """Twin rooms whose scans favour the wrong one: anchored there and found wrong (a search that
     failed), the integrator anchors afresh at the other twin only if it rules out where it was,
