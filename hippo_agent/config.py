@@ -381,8 +381,9 @@ class AgentConfig:
     """Samples within this distance (m) of the heaviest one form the estimate's cluster: the
     candidate place whose share of the weight (``pi_anchor_weight``) decides anchoring. 1 m holds a
     belief as wide as the vote spreads it round one place (``pi_vote_sigma``), and look-alike rooms
-    lie farther apart (4.7-7.4 m in the tuning mazes). At 0.3 m, runs whose belief held 99 % of
-    its weight within 1 m of the true place stayed unanchored, unable to home, for over 100 steps."""
+    lie farther apart (wrong anchorings in the rooms tuning mazes were about 5-7 m off). At 0.3 m,
+    runs whose belief held over 90 % of its weight within 1 m of the true place stayed unanchored,
+    unable to home, for over 100 steps."""
     pi_anchor_weight: float = 0.8
     """Share of the weight the cluster needs before a run's estimate counts as anchored; until then
     the path-integration input and all plasticity are off."""
