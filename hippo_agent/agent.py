@@ -151,6 +151,9 @@ class HippocampalAgent:
         self.bump_rate = 0.0  # running mean of bumps per step while anchored (runs)
         self._scan: tuple[np.ndarray, float] | None = None  # the scan being processed: (ranges, heading)
         self._candidates: np.ndarray | None = None  # walkable map places, while the estimate is lost
+        self.look_alikes = np.empty((0, 2))  # offsets from the estimate of places it may be confused with (runs)
+        self.look_alike_fit = np.empty(0)  # running means of the scan's fit to the map there
+        self.own_fit = 1.0  # the same at the estimate, since the look-alikes were picked
         self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
 
     # ================================================================== spaces
@@ -263,6 +266,7 @@ class HippocampalAgent:
             self._scan = (ranges, heading)
             self.place.step_with_sense(b, lambda: None, self.config.settle_steps)
             self._candidates = None
+            self._forget_look_alikes()
             self.pi.correct(
                 *self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals
             )
@@ -407,7 +411,10 @@ class HippocampalAgent:
         """Correct the estimate with the BVC-only vote just computed (and, while not anchored in a
         run, with the exploration map, :meth:`_map_likelihood`); the path-integration drive if
         anchored, else ``None`` (the boundary code alone drives the place cells)."""
+        was_anchored = self.pi.anchored
         self.pi.correct(*self.place.sensory_vote(self.config.pi_min_mass), likelihood=self._map_likelihood, proposals=self._map_proposals)
+        if self.pi.anchored and not was_anchored:
+            self._pick_look_alikes()
         self._check_localisation()
         return self._pi_input() if self.pi.anchored else None
 
@@ -437,25 +444,63 @@ class HippocampalAgent:
         p = np.exp(c.map_beta * (fit - fit.max()))
         return self._candidates[self.rng.choice(fit.size, size=c.map_proposals, p=p / p.sum())]
 
+    def _pick_look_alikes(self) -> None:
+        """Just anchored in a run: remember, as offsets from the estimate, the ``doubt_look_alikes``
+        places at least ``pi_rule_out_radius`` away (and apart) where the scan fits the map best,
+        the look-alikes the anchoring may have confused with the true place (:meth:`_check_localisation`)."""
+        c = self.config
+        self._forget_look_alikes()
+        if c.doubt_look_alikes == 0 or self.map is None or self.phase == "dry" or self._scan is None:
+            return
+        if self._candidates is None:
+            self._candidates = self.map.walkable_points()
+        ranges, heading = self._scan
+        fit = self.map.scan_agreement(self._candidates, heading, ranges, self.max_range)
+        offsets = self._candidates - self.pi.estimate
+        chosen: list[int] = []
+        for i in np.argsort(-fit, kind="stable"):
+            if (
+                all(math.hypot(*(offsets[i] - offsets[j])) > c.pi_rule_out_radius for j in chosen)
+                and math.hypot(*offsets[i]) > c.pi_rule_out_radius
+            ):
+                chosen.append(int(i))
+                if len(chosen) == c.doubt_look_alikes:
+                    break
+        if chosen:
+            self.look_alikes = offsets[chosen]
+            self.look_alike_fit = fit[chosen]
+            self.own_fit = float(self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0])
+
+    def _forget_look_alikes(self) -> None:
+        self.look_alikes, self.look_alike_fit = np.empty((0, 2)), np.empty(0)
+
     def _check_localisation(self) -> None:
         """In a run, once anchored: a running mean of how well the scan fits the map at the
-        estimate; when it falls below ``lost_agreement``, the estimate is at a look-alike place:
-        anchor afresh."""
+        estimate; when it falls below ``lost_agreement``, or the same mean at one of the
+        look-alike places (:meth:`_pick_look_alikes`, carried along by odometry) exceeds it by
+        ``doubt_margin``, the estimate is at a look-alike place: anchor afresh elsewhere."""
         every = self.config.run_map_every
         if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None or self.total_steps % every:
             return
         ranges, heading = self._scan
-        here = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0]
+        points = np.vstack((self.pi.estimate, self.pi.estimate + self.look_alikes))
+        fits = self.map.scan_agreement(points, heading, ranges, self.max_range)
         rate = min(1.0, self.config.map_fit_rate * every)
-        self.fit = (1.0 - rate) * self.fit + rate * here
+        self.fit = (1.0 - rate) * self.fit + rate * fits[0]
         if self.fit < self.config.lost_agreement:
             self._relocalise()
+        elif len(self.look_alikes):
+            self.own_fit = (1.0 - rate) * self.own_fit + rate * fits[0]
+            self.look_alike_fit = (1.0 - rate) * self.look_alike_fit + rate * fits[1:]
+            if self.look_alike_fit.max() > self.own_fit + self.config.doubt_margin:
+                self._relocalise(rule_out=True)
 
     def _relocalise(self, rule_out: bool = False) -> None:
         """The estimate is taken to be at a look-alike place: anchor afresh from the map (with
         ``rule_out``, away from the place the estimate was at)."""
         self.pi.lose(rule_out=rule_out)
         self._candidates = None
+        self._forget_look_alikes()
         self.fit = 1.0
         self.bump_rate = 0.0
 

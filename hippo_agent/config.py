@@ -257,6 +257,13 @@ class AgentConfig:
     """While a run's estimate is not anchored, each path-integration sample is weighed by
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
     exploration map seen from there (``ExplorationMap.scan_agreement``)."""
+    doubt_look_alikes: int = 8
+    """On anchoring in a run, this many places elsewhere where the scan fits the map best are
+    remembered, and the scan's fit there is followed along with the fit at the estimate (0 = off):
+    when a look-alike place fits better by ``doubt_margin`` (running means), the anchoring is
+    taken to be wrong and the robot anchors afresh, away from where it was."""
+    doubt_margin: float = 0.1
+    """See ``doubt_look_alikes``."""
     run_map_every: int = 2
     """In runs, the map marks the searched ground and the scan's fit to the map at the estimate
     (``lost_agreement``) is checked every this many steps (the dry run maps every scan): at 0.15 m
@@ -523,7 +530,7 @@ class AgentConfig:
         positive("map_extent", "map_cell", "visit_radius", "search_radius", "explore_lookahead")
         non_negative("transit_factor", "transit_min_distance", "rest_factor")
         positive("imagined_step")
-        non_negative("map_beta", "pi_min_anchor_steps")
+        non_negative("map_beta", "doubt_look_alikes", "doubt_margin", "pi_min_anchor_steps")
         for name in ("lost_agreement", "learn_agreement"):
             if not -1 <= getattr(self, name) <= 1:
                 raise bad(name, "a value in [-1, 1]")

@@ -122,12 +122,14 @@ class ExplorationMap:
 
     def scan_agreement(self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
-        map, in [-1, 1]: per ray that ended on a boundary within ``hit_range``, -1 if it passed
-        through a wall the map holds, else +1 if the map has a wall within one cell of its end, -1
-        if the map knows that cell as free ground (a boundary where the map has none), 0 where the
-        map knows nothing; averaged over those rays.
+        map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
+        that ended on a boundary within ``hit_range``, +1 if the map has a wall within one cell of
+        its end, -1 if the map knows that cell as free ground (a boundary where the map has none), 0
+        where the map knows nothing; averaged over the rays so judged (a longer ray that passed
+        through no wall is left out: its end is too far to place on the map).
         Look-alike places that the place code confuses differ here, as the map holds their
-        surroundings beyond the nearest walls."""
+        surroundings beyond the nearest walls, and a long ray out through a door passes through a
+        wall from a look-alike room whose door is elsewhere."""
         out = np.empty(points.shape[0])
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         _scan_agreement(
@@ -291,9 +293,7 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
         counted = 0
         for q in range(m):
             d = dist[q]
-            if not (d < hit_range and d < max_range * 0.999):
-                continue
-            counted += 1
+            far = not (d < hit_range and d < max_range * 0.999)
             c, s = cos_[q], sin_[q]
             through = False  # the ray passed through a wall the map holds
             t = 0.5
@@ -305,8 +305,12 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
                     break
                 t += 0.5
             if through:
+                counted += 1
                 total -= 1.0
                 continue
+            if far:  # a long ray's end is too far to place on the map; only its free stretch counts
+                continue
+            counted += 1
             i = math.floor((x + d * c) / cell)
             j = math.floor((y + d * s) / cell)
             if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:

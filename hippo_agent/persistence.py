@@ -70,6 +70,10 @@ LATER_STATE: tuple[tuple[str, Callable[[Any], Any], Any], ...] = (
     ("memory_failures", int, 0),
     ("homing_bumps", int, 0),
     ("bump_rate", float, 0.0),
+    ("fit", float, 1.0),
+    ("own_fit", float, 1.0),
+    ("look_alikes", lambda offsets: np.asarray(offsets, dtype=np.float64).reshape(-1, 2), []),
+    ("look_alike_fit", lambda fits: np.asarray(fits, dtype=np.float64).reshape(-1), []),
 )
 # The path integrator's, under "state" -> "pi".
 PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
@@ -79,6 +83,11 @@ PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
     ("confidence", float),
     ("lost_steps", int),
 )
+
+
+def _plain(value: Any) -> Any:
+    """``value`` as JSON can hold it (an array as nested lists)."""
+    return value.tolist() if isinstance(value, np.ndarray) else value
 
 
 def _array_slots(agent: Any) -> list[tuple[str, Any, str]]:
@@ -104,7 +113,7 @@ def save(agent: Any, path: str | os.PathLike) -> None:
         "rng_kind": type(agent.rng.bit_generator).__name__,
         "state": {
             **{name: getattr(agent, name) for name, _ in STATE},
-            **{name: getattr(agent, name) for name, _, _ in LATER_STATE},
+            **{name: _plain(getattr(agent, name)) for name, _, _ in LATER_STATE},
             "pi": {**{name: getattr(agent.pi, name) for name, _ in PI_STATE}, "ruled_out": agent.pi.ruled_out.tolist()},
         },
     }
@@ -199,6 +208,8 @@ def load(cls: type, path: str | os.PathLike) -> Any:
             setattr(agent, name, read(st.get(name, default)))
         for name, read in PI_STATE:
             setattr(agent.pi, name, read(st["pi"][name]))
+        if len(agent.look_alikes) != len(agent.look_alike_fit):
+            raise ValueError(f"{len(agent.look_alikes)} look-alike places but {len(agent.look_alike_fit)} fits to them")
         ruled_out = np.asarray(st["pi"].get("ruled_out", []), dtype=np.float64).reshape(-1, 2)  # (added within version 4)
         if not np.all(np.isfinite(ruled_out)):
             raise ValueError("the path integrator's 'ruled_out' places are not finite")

@@ -115,8 +115,20 @@ def test_round_trip_is_exact(tmp_path, action_space):
         np.testing.assert_array_equal(a, b)
     assert loaded.rng.bit_generator.state == agent.rng.bit_generator.state
     assert agent.reward.remembered_place() is not None  # where the fixture's goal was found
-    later = ("intended_heading", "segment_left", "goal_rewarded", "homing_done", "memory_failures", "homing_bumps", "bump_rate")
+    later = (
+        "intended_heading",
+        "segment_left",
+        "goal_rewarded",
+        "homing_done",
+        "memory_failures",
+        "homing_bumps",
+        "bump_rate",
+        "fit",
+        "own_fit",
+    )
     assert [getattr(loaded, name) for name in later] == [getattr(agent, name) for name in later]
+    for name in ("look_alikes", "look_alike_fit"):
+        np.testing.assert_array_equal(getattr(loaded, name), getattr(agent, name))
     assert type(loaded.action_space) is type(agent.action_space)
     # the future is identical: same actions from the same observations, same weights after
     pos, heading = env.pos.copy(), env.heading
@@ -141,6 +153,7 @@ def test_round_trip_mid_run_continues_identically(tmp_path):
 LATER_FIELDS = (
     "sweep_patience", "recruit_every", "recruit_min", "map_free_range", "map_hit_range", "map_ray_stride_deg",
     "map_agreement_stride_deg", "map_bump_distance", "map_fit_rate", "pi_min_mass", "pi_vote_floor", "pi_min_mapped", "pi_resample_ess",
+    "doubt_look_alikes", "doubt_margin",
 )  # fmt: skip
 
 
@@ -183,7 +196,7 @@ def test_a_file_without_the_remembered_goal_places_loads_with_none_found(tmp_pat
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files if k not in ("found_sum", "found_count")}
     meta = json.loads(str(arrays["__meta__"]))
-    for name in ("homing_done", "memory_failures", "homing_bumps", "bump_rate"):
+    for name in ("homing_done", "memory_failures", "homing_bumps", "bump_rate", "fit", "own_fit", "look_alikes", "look_alike_fit"):
         del meta["state"][name]
     arrays["__meta__"] = np.array(json.dumps(meta))
     np.savez(tmp_path / "older.npz", **arrays)

@@ -265,3 +265,50 @@ def test_a_local_search_marks_a_narrower_path_and_starts_afresh_round_the_place(
     m.forget_searched_near(np.array([1.0, 0.0]), 0.5)
     assert not m.searched[m.index(1.0, 0.0)] and not m.searched[m.index(1.3, 0.0)]
     assert m.searched[m.index(0.0, 0.0)] and m.searched[m.index(1.3, 0.3)]  # outside the disk: kept
+
+
+def test_long_rays_through_a_wall_the_map_holds_count_against_a_place():
+    """Rays longer than ``hit_range`` (out through a door, down a corridor) count against a place
+    from which they would pass through a wall the map holds, and are left out otherwise, so two
+    places alike up close differ."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 12.0, "visit_radius": 0.5, "search_radius": 0.3})
+    for y in np.arange(-1.0, 1.01, m.cell / 2):  # a wall 2 m long at x = 3
+        m.hits[m.index(3.0, y)] = 3
+    ranges = np.full(72, 8.0, dtype=np.float32)  # nothing nearer than 8 m in any direction
+    near, far = m.scan_agreement(np.array([[5.0, 0.0], [5.0, 10.0]]), 0.0, ranges, max_range=10.0)
+    assert near == -1.0  # its westward rays would have stopped at the wall
+    assert far == 0.0  # no ray passes the wall, and none ends near enough to judge: no evidence
+
+
+def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
+    """Once anchored, the scan's fit to the map is followed at the estimate and at its look-alike
+    places; when one fits better by ``doubt_margin``, the robot anchors afresh, ruling out where
+    it was. One that fits as well changes nothing."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    config = AgentConfig(n_place=50)
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])  # a round room of 2 m
+    estimate = np.array([-5.0, 0.0])
+
+    def doubted(look_alike_ring: str) -> bool:
+        agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+        m = agent.map
+        for angle in np.linspace(0.0, 2.0 * math.pi, 400, endpoint=False):
+            west = math.cos(angle) < 0.0
+            for centre, whole in ((estimate, False), (estimate + (10.0, 0.0), look_alike_ring == "whole")):
+                if whole or west:  # the estimate's room: only its west half is mapped
+                    m.hits[m.index(centre[0] + 2.0 * math.cos(angle), centre[1] + 2.0 * math.sin(angle))] = 3
+        agent.phase = "trial"
+        agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+        agent.look_alikes, agent.look_alike_fit = np.array([[10.0, 0.0]]), np.array([0.5])
+        agent.own_fit = agent.fit = 0.5
+        agent._scan = (ranges, 0.0)
+        for _ in range(30):
+            agent._check_localisation()
+            if not agent.pi.anchored:
+                np.testing.assert_array_equal(agent.pi.ruled_out, [estimate])
+                return True
+        assert agent.fit > config.lost_agreement
+        return False
+
+    assert doubted("whole")  # the look-alike's room fits all round, the estimate's only half
+    assert not doubted("half")
