@@ -153,7 +153,7 @@ class HippocampalAgent:
         self._candidates: np.ndarray | None = None  # walkable map places, while the estimate is lost
         self.look_alikes = np.empty((0, 2))  # offsets from the estimate of places it may be confused with (runs)
         self.look_alike_fit = np.empty(0)  # running means of the scan's fit to the map there
-        self.own_fit = 1.0  # the same at the estimate, since the look-alikes were picked
+        self.own_fit = 1.0  # the same at the estimate, from its value when they were picked (``fit`` starts at 1)
         self.codes: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # dry run: map cell -> place code there (active cells, rates)
 
     # ================================================================== spaces

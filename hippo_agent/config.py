@@ -258,10 +258,11 @@ class AgentConfig:
     ``exp(map_beta * agreement)``, the agreement (in [-1, 1]) of the current scan with the
     exploration map seen from there (``ExplorationMap.scan_agreement``)."""
     doubt_look_alikes: int = 8
-    """On anchoring in a run, this many places elsewhere where the scan fits the map best are
-    remembered, and the scan's fit there is followed along with the fit at the estimate (0 = off):
-    when a look-alike place fits better by ``doubt_margin`` (running means), the anchoring is
-    taken to be wrong and the robot anchors afresh, away from where it was."""
+    """On anchoring in a run, this many places at least ``pi_rule_out_radius`` away (and apart)
+    where the scan fits the map best are remembered, and the scan's fit there is followed along
+    with the fit at the estimate (0 = off): when a look-alike place fits better by
+    ``doubt_margin`` (running means), the anchoring is taken to be wrong and the robot anchors
+    afresh, away from where it was (tuned in rooms mazes; ``docs/parameters.md``)."""
     doubt_margin: float = 0.1
     """See ``doubt_look_alikes``."""
     run_map_every: int = 2
