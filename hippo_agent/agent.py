@@ -554,7 +554,7 @@ class HippocampalAgent:
         if target is None or not self.pi.anchored or self.fit < c.learn_agreement:
             return None
         here = self.pi.estimate
-        distance = self._home_distance()
+        distance = self._home_distance(target)
         if distance > c.home_radius:
             return None
         if distance < c.home_arrived and not self.homing_done:
@@ -584,9 +584,10 @@ class HippocampalAgent:
         self.homing_bumps = 0
         self.memory_failures += 1
 
-    def _home_distance(self) -> float:
-        """How far (m, by path integration) the remembered place of the current goal is; inf if none."""
-        target = self.reward.remembered_place()
+    def _home_distance(self, target: np.ndarray | None = None) -> float:
+        """How far (m, by path integration) the remembered place of the current goal (``target``,
+        if already looked up) is; inf if none."""
+        target = self.reward.remembered_place() if target is None else target
         return math.inf if target is None else float(np.hypot(*(target - self.pi.estimate)))
 
     def _start_local_search(self) -> None:

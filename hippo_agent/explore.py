@@ -20,7 +20,11 @@ cells from the robot's cell and heads straight for the farthest point of the pat
 
 - the nearest walkable cell not yet visited (:meth:`ExplorationMap.heading_to_unvisited`: the
   dry run's sweep), or not yet searched in this run (the search for a hidden goal), or
-- a given cell (:meth:`ExplorationMap.heading_to`: a transit across known ground).
+- a given cell (:meth:`ExplorationMap.heading_to`: a transit across known ground), or
+- walkable ground near a place (:meth:`ExplorationMap.heading_to_near`: homing, and the local
+  search round the place). This search, made at every step of homing, is an A* search toward
+  the place: it finds paths exactly as short as the breadth-first search's over the same cells,
+  but expands only the cells along its way, not every cell nearer than the place.
 """
 
 from __future__ import annotations
@@ -82,7 +86,16 @@ class ExplorationMap:
         self._parent = np.zeros(n * n, dtype=np.int32)
         self._queue = np.zeros(n * n, dtype=np.int32)
         self._depth = np.zeros(n * n, dtype=np.int32)
+        # and whether a cell is walkable, worked out once per search (stamped as above)
+        self._walk_stamp = np.zeros(n * n, dtype=np.int32)
+        self._walk = np.zeros(n * n, dtype=np.bool_)
+        # the search into a disk (A*): path lengths so far, cells done, and its priority queue
+        self._steps = np.zeros(n * n, dtype=np.int32)
+        self._closed = np.zeros(n * n, dtype=np.int32)
+        self._heap = np.zeros(8 * n * n, dtype=np.int64)
+        self._heap_cells = np.zeros(8 * n * n, dtype=np.int32)
         self._search_id = np.zeros(1, dtype=np.int32)
+        self._nothing = np.zeros((n, n), dtype=np.bool_)  # "none done" for a search into a disk (never written)
 
     # ------------------------------------------------------------------ senses
     def observe(
@@ -159,9 +172,8 @@ class ExplorationMap:
         of ``centre`` other than the robot's own (a place by a wall is not walkable itself), or,
         when there is no such path, through any free cell that is not a wall (a doorway too narrow
         for walkable cells may wall the place off); ``None`` if there is no path either way."""
-        none_done = np.zeros_like(self.searched)
-        heading = self._plan_into_disk(position, centre, radius, none_done)
-        return self._plan_into_disk(position, centre, radius, none_done, squeeze=True) if heading is None else heading
+        heading = self._plan_into_disk(position, centre, radius, self._nothing)
+        return self._plan_into_disk(position, centre, radius, self._nothing, squeeze=True) if heading is None else heading
 
     def heading_to(self, position: np.ndarray, target: int) -> float | None:
         """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
@@ -174,41 +186,63 @@ class ExplorationMap:
         i, j = self.index(*position)
         self._search_id[0] += 1
         _, reached = _search(
-            self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False
-        )
+            self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False,
+            self._walk_stamp, self._walk,
+        )  # fmt: skip
         return _known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
-    def path(self, position: np.ndarray, target: int, known: np.ndarray | None = None, squeeze: bool = False) -> np.ndarray:
+    def path(
+        self,
+        position: np.ndarray,
+        target: int,
+        known: np.ndarray | None = None,
+        squeeze: bool = False,
+        disk: tuple[np.ndarray, float] | None = None,
+    ) -> np.ndarray:
         """Flat indices of the cells along the shortest walkable path from ``position`` to the cell
-        ``target`` (``-1``: to the nearest walkable cell that ``known`` does not hold); empty if
-        there is none. ``squeeze``: through any free cell that is not a wall."""
+        ``target`` (``-1``: to the nearest walkable cell that ``known`` does not hold, and with
+        ``disk = (centre, radius)`` that lies within ``radius`` m of ``centre``); empty if there is
+        none. ``squeeze``: through any free cell that is not a wall."""
+        found = self._find(position, target, known, squeeze, disk)
+        return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
+
+    def _find(
+        self, position: np.ndarray, target: int, known: np.ndarray | None, squeeze: bool, disk: tuple[np.ndarray, float] | None
+    ) -> int:
+        """The search of :meth:`path`: the flat index of the cell found (its path back through
+        ``_parent``), or -1."""
         if target < -1:
             raise ValueError(f"target={target}; allowed: a cell's flat index, or -1 for the nearest cell that known does not hold")
         i, j = self.index(*position)
         self._search_id[0] += 1
         known = self.visited if known is None else known
-        found, _ = _search(
-            self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze
-        )
-        return np.empty(0, dtype=np.int64) if found < 0 else _path_to(self._parent, found)
+        if disk is None:
+            found, _ = _search(
+                self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze,
+                self._walk_stamp, self._walk,
+            )  # fmt: skip
+        else:  # the disk in grid units, as _mark_disk draws it
+            dx, dy, dr = (disk[0][0] + self.extent) / self.cell, (disk[0][1] + self.extent) / self.cell, disk[1] / self.cell
+            found = _search_disk(
+                self.free, self.hits, known, i, j, float(dx), float(dy), float(dr), squeeze, self._search_id[0],
+                self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_stamp, self._walk,
+            )  # fmt: skip
+        return int(found)
 
     def _plan_into_disk(
         self, position: np.ndarray, centre: np.ndarray, radius: float, done: np.ndarray, squeeze: bool = False
     ) -> float | None:
         """Plan to the nearest walkable cell within ``radius`` of ``centre`` that ``done`` does not hold."""
-        known = np.ones_like(done)
-        inside = np.zeros_like(done)
-        _mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
-        known[inside] = done[inside]
-        return self._plan(position, known, -1, squeeze)
+        return self._plan(position, done, -1, squeeze, (centre, float(radius)))
 
-    def _plan(self, position: np.ndarray, known: np.ndarray, target: int, squeeze: bool = False) -> float | None:
-        path = self.path(position, target, known, squeeze)
-        if path.size < 2:
+    def _plan(
+        self, position: np.ndarray, known: np.ndarray, target: int, squeeze: bool = False, disk: tuple[np.ndarray, float] | None = None
+    ) -> float | None:
+        found = self._find(position, target, known, squeeze, disk)
+        if found < 0:
             return None
         gx, gy = (position[0] + self.extent) / self.cell, (position[1] + self.extent) / self.cell
-        k = _farthest_in_sight(self.free, self.hits, path, gx, gy, self.lookahead_cells, squeeze)
-        wx, wy = self.centre(path[k])
+        wx, wy = self.centre(_waypoint(self.free, self.hits, self._parent, found, gx, gy, self.lookahead_cells, squeeze, self._depth))
         return math.atan2(wy - position[1], wx - position[0])
 
     # ------------------------------------------------------------------ measures
@@ -375,17 +409,40 @@ def _walkable(free, hits, i, j):  # pragma: no cover - compiled
 @njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
 def _passable(free, hits, i, j, near_start):  # pragma: no cover - compiled
     """Walkable, or (within two steps of the start) at least free and not a wall."""
-    if _walkable(free, hits, i, j):
-        return True
+    return _walkable(free, hits, i, j) or (near_start and _free_not_wall(free, hits, i, j))
+
+
+@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
+def _free_not_wall(free, hits, i, j):  # pragma: no cover - compiled
     n = free.shape[0]
-    return near_start and 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
+    return 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
+
+
+@njit(cache=True, inline="always")
+def _walkable_once(free, hits, i, j, walk_stamp, walk, search_id):  # pragma: no cover - compiled
+    """:func:`_walkable`, remembered in ``walk`` for the search ``search_id`` (``walk_stamp``)."""
+    n = free.shape[0]
+    if i < 0 or j < 0 or i >= n or j >= n:
+        return False
+    k = i * n + j
+    if walk_stamp[k] != search_id:
+        walk_stamp[k] = search_id
+        walk[k] = _walkable(free, hits, i, j)
+    return walk[k]
+
+
+@njit(cache=True, inline="always")
+def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, search_id):  # pragma: no cover - compiled
+    """:func:`_passable`, with walkability from :func:`_walkable_once`."""
+    return _walkable_once(free, hits, i, j, walk_stamp, walk, search_id) or (near_start and _free_not_wall(free, hits, i, j))
 
 
 @njit(cache=True)
-def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze):  # pragma: no cover - compiled
+def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
-    does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
+    does not hold; if ``target == -2``, everywhere reachable. ``walk_stamp`` and ``walk`` are scratch:
+    each cell's walkability, worked out once per search (a cell is checked from up to 8 sides). ``squeeze``: over every free cell
     that is not a wall. Returns the flat index of the cell found (its path back to the start
     through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
     reached (``queue[:reached]``, in the order reached)."""
@@ -409,7 +466,7 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
                 if cur == target:
                     found = cur
                     break
-            elif target == -1 and not known[ci, cj] and _walkable(free, hits, ci, cj):
+            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, search_id):
                 found = cur
                 break
         for di in range(-1, 2):
@@ -418,15 +475,144 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
                     continue
                 a, b = ci + di, cj + dj
                 nxt = a * n + b
-                if stamp[nxt] == search_id or not _passable(free, hits, a, b, near):
+                if stamp[nxt] == search_id or not _passable_once(free, hits, a, b, near, walk_stamp, walk, search_id):
                     continue
-                if di != 0 and dj != 0 and not (_passable(free, hits, ci + di, cj, near) and _passable(free, hits, ci, cj + dj, near)):
+                if (
+                    di != 0
+                    and dj != 0
+                    and not (
+                        _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
+                        and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
+                    )
+                ):
                     continue
                 stamp[nxt] = search_id
                 parent[nxt] = cur
                 queue[tail] = nxt
                 tail += 1
     return found, tail
+
+
+@njit(cache=True)
+def _search_disk(
+    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_stamp, walk
+):  # pragma: no cover - compiled
+    """A shortest path (in steps, over the same cells and moves as :func:`_search`) from (i0, j0)
+    to the nearest walkable cell that ``known`` does not hold and whose centre lies within ``dr``
+    of ``(dx, dy)`` (grid units): an A* search, which heads for the disk instead of spreading in
+    every direction as the breadth-first search does. Its lower bound on the steps left from a
+    cell is the Chebyshev distance of its centre to the disk's centre less ``dr``, rounded up (a
+    step moves at most one cell along each axis). Of the open cells with the least bound, the one
+    farthest along is taken first, then the one nearest the disk's centre in a straight line (of
+    the many paths equally short in steps, one near the straight line). Returns the flat index of
+    the cell found (its path back through ``parent``), or -1 if there is none (or the robot is
+    there). ``stamp`` marks the cells reached, ``closed`` those done, ``steps`` their path lengths;
+    ``heap`` holds the queue's priorities (:func:`_priority`) and ``heap_cells`` their cells;
+    ``walk_stamp`` / ``walk`` as in :func:`_search`."""
+    n = free.shape[0]
+    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
+        return -1
+    start = i0 * n + j0
+    stamp[start] = search_id
+    parent[start] = -1
+    steps[start] = 0
+    size = _heap_push(heap, heap_cells, 0, _priority(i0, j0, 0, dx, dy, dr), start)
+    while size > 0:
+        cur = heap_cells[0]
+        size = _heap_pop(heap, heap_cells, size)
+        if closed[cur] == search_id:
+            continue  # an older entry of a cell since reached by a shorter path
+        closed[cur] = search_id
+        ci, cj = cur // n, cur % n
+        if (
+            cur != start
+            and not known[ci, cj]
+            and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
+            and _walkable_once(free, hits, ci, cj, walk_stamp, walk, search_id)
+        ):
+            return cur
+        near = squeeze or cur == start or parent[cur] == start
+        g = steps[cur] + 1
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                if di == 0 and dj == 0:
+                    continue
+                a, b = ci + di, cj + dj
+                nxt = a * n + b
+                if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
+                    continue
+                if not _passable_once(free, hits, a, b, near, walk_stamp, walk, search_id):
+                    continue
+                if (
+                    di != 0
+                    and dj != 0
+                    and not (
+                        _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
+                        and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
+                    )
+                ):
+                    continue
+                stamp[nxt] = search_id
+                parent[nxt] = cur
+                steps[nxt] = g
+                if size == heap.size:
+                    return -1  # (cannot happen: a cell enters the queue at most once from each neighbour)
+                size = _heap_push(heap, heap_cells, size, _priority(a, b, g, dx, dy, dr), nxt)
+    return -1
+
+
+# the disk search's priority, an int64 packing 21 bits each of the bound on a path's steps, the
+# steps so far (complemented: more steps, a smaller priority) and the straight distance to the
+# disk's centre (in 1/256 cells), so that comparing priorities orders them in that order
+_BITS = 21
+_MASK = (1 << _BITS) - 1
+
+
+@njit(cache=True, inline="always")
+def _priority(i, j, g, dx, dy, dr):  # pragma: no cover - compiled
+    ex, ey = i + 0.5 - dx, j + 0.5 - dy
+    bound = g + max(0, math.ceil(max(abs(ex), abs(ey)) - dr - 1e-9))  # Chebyshev distance to the disk, at least
+    straight = min(_MASK, int(256.0 * math.sqrt(ex * ex + ey * ey)))
+    return (bound << (2 * _BITS)) | ((_MASK - g) << _BITS) | straight
+
+
+@njit(cache=True, inline="always")
+def _heap_push(heap, cells, size, priority, cell):  # pragma: no cover - compiled
+    """Push ``cell`` with ``priority`` onto the binary min-heap ``heap[:size]`` (``cells`` beside
+    it); the new size."""
+    k = size
+    while k > 0:
+        up = (k - 1) >> 1
+        if heap[up] <= priority:
+            break
+        heap[k] = heap[up]
+        cells[k] = cells[up]
+        k = up
+    heap[k] = priority
+    cells[k] = cell
+    return size + 1
+
+
+@njit(cache=True, inline="always")
+def _heap_pop(heap, cells, size):  # pragma: no cover - compiled
+    """Drop the least entry of the binary min-heap ``heap[:size]`` (``cells`` beside it); the new size."""
+    size -= 1
+    priority, cell = heap[size], cells[size]
+    k = 0
+    while True:
+        child = 2 * k + 1
+        if child >= size:
+            break
+        if child + 1 < size and heap[child + 1] < heap[child]:
+            child += 1
+        if heap[child] >= priority:
+            break
+        heap[k] = heap[child]
+        cells[k] = cells[child]
+        k = child
+    heap[k] = priority
+    cells[k] = cell
+    return size
 
 
 @njit(cache=True)
@@ -451,6 +637,22 @@ def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze):  # pragma: no c
             break
         best = k
     return best
+
+
+@njit(cache=True)
+def _waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch):  # pragma: no cover - compiled
+    """The cell the planner heads for (:func:`_farthest_in_sight`) along the path from the search's
+    start to ``found`` (written into ``scratch``)."""
+    length = 0
+    cur = found
+    while parent[cur] != -1:
+        length += 1
+        cur = parent[cur]
+    cur = found
+    for k in range(length, -1, -1):
+        scratch[k] = cur
+        cur = parent[cur]
+    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze)]
 
 
 @njit(cache=True)

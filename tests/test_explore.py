@@ -312,3 +312,45 @@ def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
 
     assert doubted("whole")  # the look-alike's room fits all round, the estimate's only half
     assert not doubted("half")
+
+
+def _disk_as_known(m: ExplorationMap, done: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
+    """``done`` inside the disk, everything outside it known: what the breadth-first search needs
+    to look for the same cells as the search into the disk."""
+    inside = np.zeros_like(done)
+    for flat in range(m.n * m.n):
+        x, y = m.centre(flat)
+        inside[divmod(flat, m.n)] = math.hypot(x - centre[0], y - centre[1]) <= radius + 1e-9
+    return np.where(inside, done, True)
+
+
+def test_the_search_into_a_disk_finds_paths_as_short_as_the_breadth_first_search():
+    """Homing's A* search (``path(..., disk=...)``) against the breadth-first search over the same
+    cells, on random maps with walls, holes and searched ground: the same cells found or not, paths
+    of the same number of steps, each a chain of neighbouring cells ending on a goal cell."""
+    rng = np.random.default_rng(3)
+    compared = 0
+    for _ in range(60):
+        m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 4.0})
+        m.free[:] = 1
+        for _ in range(rng.integers(0, 25)):
+            i, j = rng.integers(1, m.n - 1, 2)
+            length = int(rng.integers(1, 12))
+            if rng.random() < 0.5:
+                m.hits[i, j : j + length] = 5
+            else:
+                m.hits[i : i + length, j] = 5
+        m.free[rng.random(m.free.shape) < 0.05] = 0
+        done = rng.random(m.free.shape) < 0.3
+        position, centre, radius = rng.uniform(-3.5, 3.5, 2), rng.uniform(-3.5, 3.5, 2), float(rng.uniform(0.3, 1.2))
+        known = _disk_as_known(m, done, centre, radius)
+        for squeeze in (False, True):
+            fast = m.path(position, -1, done, squeeze, disk=(centre, radius))
+            breadth_first = m.path(position, -1, known, squeeze)
+            assert fast.size == breadth_first.size
+            if fast.size:
+                compared += 1
+                assert not known[divmod(int(fast[-1]), m.n)]
+                steps = np.abs(np.diff(np.column_stack(np.divmod(fast, m.n)), axis=0)).max(axis=1)
+                assert np.all(steps == 1)
+    assert compared > 30  # (most maps have a path)
