@@ -483,7 +483,7 @@ class HippocampalAgent:
         if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None or self.total_steps % every:
             return
         ranges, heading = self._scan
-        points = np.vstack((self.pi.estimate, self.pi.estimate + self.look_alikes))
+        points = np.concatenate((self.pi.estimate[None, :], self.pi.estimate + self.look_alikes))
         fits = self.map.scan_agreement(points, heading, ranges, self.max_range)
         rate = min(1.0, self.config.map_fit_rate * every)
         self.fit = (1.0 - rate) * self.fit + rate * fits[0]
@@ -588,7 +588,10 @@ class HippocampalAgent:
         """How far (m, by path integration) the remembered place of the current goal (``target``,
         if already looked up) is; inf if none."""
         target = self.reward.remembered_place() if target is None else target
-        return math.inf if target is None else float(np.hypot(*(target - self.pi.estimate)))
+        if target is None:
+            return math.inf
+        here = self.pi.estimate
+        return float(np.hypot(float(target[0]) - float(here[0]), float(target[1]) - float(here[1])))
 
     def _start_local_search(self) -> None:
         """Arrived at the remembered place without the reward: search all round it afresh."""

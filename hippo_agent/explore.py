@@ -222,7 +222,8 @@ class ExplorationMap:
                 self._walk_stamp, self._walk,
             )  # fmt: skip
         else:  # the disk in grid units, as _mark_disk draws it
-            dx, dy, dr = (disk[0][0] + self.extent) / self.cell, (disk[0][1] + self.extent) / self.cell, disk[1] / self.cell
+            cx, cy = float(disk[0][0]), float(disk[0][1])
+            dx, dy, dr = (cx + self.extent) / self.cell, (cy + self.extent) / self.cell, float(disk[1]) / self.cell
             found = _search_disk(
                 self.free, self.hits, known, i, j, float(dx), float(dy), float(dr), squeeze, self._search_id[0],
                 self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_stamp, self._walk,
@@ -241,13 +242,15 @@ class ExplorationMap:
         found = self._find(position, target, known, squeeze, disk)
         if found < 0:
             return None
-        gx, gy = (position[0] + self.extent) / self.cell, (position[1] + self.extent) / self.cell
+        x, y = float(position[0]), float(position[1])
+        gx, gy = (x + self.extent) / self.cell, (y + self.extent) / self.cell
         wx, wy = self.centre(_waypoint(self.free, self.hits, self._parent, found, gx, gy, self.lookahead_cells, squeeze, self._depth))
-        return math.atan2(wy - position[1], wx - position[0])
+        return math.atan2(wy - y, wx - x)
 
     # ------------------------------------------------------------------ measures
     def index(self, x: float, y: float) -> tuple[int, int]:
         """The (row, column) of the cell holding frame point (x, y); row = x."""
+        x, y = float(x), float(y)  # (arithmetic on NumPy scalars is several times slower)
         return math.floor((x + self.extent) / self.cell), math.floor((y + self.extent) / self.cell)
 
     def flat_index(self, x: float, y: float) -> int:
