@@ -1,7 +1,8 @@
 """Hippocampal agent throughput: act + observe steps per second, learning on, on one core.
 
 For each population size the agent does a short dry run, finds a fixed goal (so the reward map
-exists and every later step exploits with 8-way preplay; if the goal is reached with no place cell
+exists and every later step heads for the goal: by 8-way preplay, or, in the default model, homing
+along its map to where the goal was found; if the goal is reached with no place cell
 active there, which replays nothing, it runs again, up to ``MAX_GOAL_RUNS`` runs), then is timed alone on a recorded
 random walk of real observations: once exploiting, once exploring. One replay is timed too, and
 the memory of the place->place tensor is read off the agent. RatInABox (the ``peers`` extra) is timed
@@ -196,7 +197,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
 
 def _timed(agent: HippocampalAgent, recorded: list, exploit: bool, repeats: int) -> tuple[float, float, dict]:
     """Best steps/s (wall and CPU) of act + observe over the recorded walk."""
-    agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays every step
+    agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays (or homes) every step
     best_wall = best_cpu = 0.0
     for _ in range(repeats):
         wall, cpu = _walk(agent, recorded)
@@ -361,9 +362,11 @@ MIN_EXPLOIT_SHARE = 0.5
 
 
 def exploit_share(row: dict[str, Any]) -> float:
-    """The share of the exploiting walk's steps on which the agent exploited (preplay chose the move)."""
+    """The share of the exploiting walk's steps on which the agent headed for the goal (preplay, or
+    homing along its map, chose the move)."""
     decisions = row["exploit_decisions"]
-    return decisions["exploit"] / max(decisions["exploit"] + decisions["explore"], 1)
+    goal_directed = decisions["exploit"] + decisions.get("home", 0)
+    return goal_directed / max(goal_directed + decisions["explore"], 1)
 
 
 def replays(row: dict[str, Any]) -> bool:

@@ -444,11 +444,11 @@ def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, search_id):  
 def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
-    does not hold; if ``target == -2``, everywhere reachable. ``walk_stamp`` and ``walk`` are scratch:
-    each cell's walkability, worked out once per search (a cell is checked from up to 8 sides). ``squeeze``: over every free cell
+    does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
     that is not a wall. Returns the flat index of the cell found (its path back to the start
     through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
-    reached (``queue[:reached]``, in the order reached)."""
+    reached (``queue[:reached]``, in the order reached). ``walk_stamp`` and ``walk`` are scratch:
+    each cell's walkability, worked out once per search (a cell is checked from up to 8 sides)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1, 0
