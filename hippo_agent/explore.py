@@ -440,6 +440,26 @@ def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, search_id):  
     return _walkable_once(free, hits, i, j, walk_stamp, walk, search_id) or (near_start and _free_not_wall(free, hits, i, j))
 
 
+# the 8 neighbours of a cell, in the order the searches try them
+_NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+
+
+@njit(cache=True, inline="always")
+def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):  # pragma: no cover - compiled
+    """Whether a search may step from (ci, cj) by (di, dj): onto a passable cell
+    (:func:`_passable_once`), and diagonally only between two passable cells (no corner cutting)."""
+    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_stamp, walk, search_id):
+        return False
+    return (
+        di == 0
+        or dj == 0
+        or (
+            _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
+            and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
+        )
+    )
+
+
 @njit(cache=True)
 def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
@@ -472,27 +492,14 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
             elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, search_id):
                 found = cur
                 break
-        for di in range(-1, 2):
-            for dj in range(-1, 2):
-                if di == 0 and dj == 0:
-                    continue
-                a, b = ci + di, cj + dj
-                nxt = a * n + b
-                if stamp[nxt] == search_id or not _passable_once(free, hits, a, b, near, walk_stamp, walk, search_id):
-                    continue
-                if (
-                    di != 0
-                    and dj != 0
-                    and not (
-                        _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
-                        and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
-                    )
-                ):
-                    continue
-                stamp[nxt] = search_id
-                parent[nxt] = cur
-                queue[tail] = nxt
-                tail += 1
+        for di, dj in _NEIGHBOURS:
+            nxt = (ci + di) * n + cj + dj
+            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):
+                continue
+            stamp[nxt] = search_id
+            parent[nxt] = cur
+            queue[tail] = nxt
+            tail += 1
     return found, tail
 
 
@@ -536,31 +543,18 @@ def _search_disk(
             return cur
         near = squeeze or cur == start or parent[cur] == start
         g = steps[cur] + 1
-        for di in range(-1, 2):
-            for dj in range(-1, 2):
-                if di == 0 and dj == 0:
-                    continue
-                a, b = ci + di, cj + dj
-                nxt = a * n + b
-                if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
-                    continue
-                if not _passable_once(free, hits, a, b, near, walk_stamp, walk, search_id):
-                    continue
-                if (
-                    di != 0
-                    and dj != 0
-                    and not (
-                        _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
-                        and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
-                    )
-                ):
-                    continue
-                stamp[nxt] = search_id
-                parent[nxt] = cur
-                steps[nxt] = g
-                if size == heap.size:
-                    return -1  # (cannot happen: a cell enters the queue at most once from each neighbour)
-                size = _heap_push(heap, heap_cells, size, _priority(a, b, g, dx, dy, dr), nxt)
+        for di, dj in _NEIGHBOURS:
+            nxt = (ci + di) * n + cj + dj
+            if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
+                continue
+            if not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):
+                continue
+            stamp[nxt] = search_id
+            parent[nxt] = cur
+            steps[nxt] = g
+            if size == heap.size:
+                return -1  # (cannot happen: a cell enters the queue at most once from each neighbour)
+            size = _heap_push(heap, heap_cells, size, _priority(ci + di, cj + dj, g, dx, dy, dr), nxt)
     return -1
 
 
