@@ -24,7 +24,9 @@ cells from the robot's cell and heads straight for the farthest point of the pat
 - walkable ground near a place (:meth:`ExplorationMap.heading_to_near`: homing, and the local
   search round the place). This search, made at every step of homing, is an A* search toward
   the place: it finds paths exactly as short as the breadth-first search's over the same cells,
-  but expands only the cells along its way, not every cell nearer than the place.
+  but expands only the cells along its way, not every cell nearer than the place. While the
+  robot stays in one cell and the grids do not change (the map's *revision* counts the
+  changes), the path is the same: it is searched once.
 """
 
 from __future__ import annotations
@@ -96,6 +98,11 @@ class ExplorationMap:
         self._heap_cells = np.zeros(8 * n * n, dtype=np.int32)
         self._search_id = np.zeros(1, dtype=np.int32)
         self._nothing = np.zeros((n, n), dtype=np.bool_)  # "none done" for a search into a disk (never written)
+        self.revision = 0  # counts the changes to free and hits
+        # the last search into a disk with nothing done: its start cell, disk, squeeze and the
+        # grids' revision, and the cell found (its path back is in _parent until the next search)
+        self._last_plan: tuple[int, int, float, float, float, bool, int] | None = None
+        self._last_found = -1
 
     # ------------------------------------------------------------------ senses
     def observe(
@@ -113,10 +120,11 @@ class ExplorationMap:
         only the cells the map knows nothing of yet: what it knows stays as it is."""
         n_rays = ranges.size
         stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
-        _enter_scan(
+        if _enter_scan(
             self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
             float(max_range), self.extent, self.cell, self.free_range, self.hit_range, unknown_only,
-        )  # fmt: skip
+        ):  # fmt: skip
+            self.revision += 1
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         radius = self.search_radius if search_radius is None else float(search_radius)
         _mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
@@ -132,6 +140,12 @@ class ExplorationMap:
         i, j = self.index(position[0] + distance * math.cos(heading), position[1] + distance * math.sin(heading))
         if 0 <= i < self.n and 0 <= j < self.n:
             self.hits[i, j] = min(int(self.hits[i, j]) + int(self.free[i, j]) + 1, 65535)
+            self.revision += 1
+
+    def grids_replaced(self) -> None:
+        """Call after writing ``free`` or ``hits`` other than through :meth:`observe` and
+        :meth:`mark_bump` (as loading a saved agent does): searches made on the old grids are not reused."""
+        self.revision += 1
 
     def scan_agreement(self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
@@ -183,8 +197,9 @@ class ExplorationMap:
     def reachable_visited(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices of the visited walkable cells reachable from ``position``, and their path
         lengths in cells (for choosing transits)."""
-        i, j = self.index(*position)
+        i, j = self.index(float(position[0]), float(position[1]))
         self._search_id[0] += 1
+        self._last_plan = None  # (this search overwrites the last one's paths)
         _, reached = _search(
             self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False,
             self._walk_stamp, self._walk,
@@ -213,9 +228,14 @@ class ExplorationMap:
         ``_parent``), or -1."""
         if target < -1:
             raise ValueError(f"target={target}; allowed: a cell's flat index, or -1 for the nearest cell that known does not hold")
-        i, j = self.index(*position)
-        self._search_id[0] += 1
+        i, j = self.index(float(position[0]), float(position[1]))
         known = self.visited if known is None else known
+        plan = None
+        if disk is not None and known is self._nothing:
+            plan = (i, j, float(disk[0][0]), float(disk[0][1]), float(disk[1]), squeeze, self.revision)
+            if plan == self._last_plan:
+                return self._last_found  # the same start cell, disk and grids: the same path
+        self._search_id[0] += 1
         if disk is None:
             found, _ = _search(
                 self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze,
@@ -228,6 +248,7 @@ class ExplorationMap:
                 self.free, self.hits, known, i, j, float(dx), float(dy), float(dr), squeeze, self._search_id[0],
                 self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_stamp, self._walk,
             )  # fmt: skip
+        self._last_plan, self._last_found = plan, int(found)
         return int(found)
 
     def _plan_into_disk(
@@ -287,8 +308,9 @@ def _enter_scan(
     free, hits, x, y, heading, ranges, stride, max_range, extent, cell, free_range, hit_range, unknown_only
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
-    (with ``unknown_only``, only cells neither free nor hit so far)."""
+    (with ``unknown_only``, only cells neither free nor hit so far). Returns how many counts changed."""
     n = free.shape[0]
+    changed = 0
     n_rays = ranges.size
     step = cell * 0.5
     for r in range(0, n_rays, stride):
@@ -306,6 +328,7 @@ def _enter_scan(
             if i != last_i or j != last_j:
                 if free[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
                     free[i, j] += 1
+                    changed += 1
                 last_i, last_j = i, j
             t += step
         if d < hit_range and d < max_range * 0.999:
@@ -313,6 +336,8 @@ def _enter_scan(
             j = math.floor((y + d * s + extent) / cell)
             if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
                 hits[i, j] += 1
+                changed += 1
+    return changed
 
 
 @njit(cache=True)

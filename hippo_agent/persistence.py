@@ -196,6 +196,7 @@ def load(cls: type, path: str | os.PathLike) -> Any:
                 if name not in arrays or arrays[name].shape != ref.shape:
                     raise ValueError(f"the exploration map's array {name!r} is missing or not of shape {ref.shape}")
                 setattr(agent.map, attr, arrays[name].astype(ref.dtype))
+            agent.map.grids_replaced()
         if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
             raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
         agent.rng.bit_generator.state = meta["rng_state"]

@@ -433,8 +433,10 @@ def test_homing_to_a_place_by_a_wall_paths_beside_it_and_a_bump_there_starts_the
     assert heading is not None and math.cos(heading) > 0.5, heading
     free = agent.map.free.copy()
     agent.map.free[:] = 0  # no known ground: no path
+    agent.map.grids_replaced()
     assert agent._home_heading() is None
     agent.map.free[:] = free
+    agent.map.grids_replaced()
     obs, info = env.reset(options={"goal": [-1.2, -1.2], "start": [1.2, 0.0], "heading": 0.0})  # (a goal elsewhere)
     agent.reset(obs, info)
     agent.reward.found_sum[-1] = (np.array([1.95, 0.0]) - agent.frame_offset(env.unwrapped)) * agent.reward.found_count[-1]

@@ -254,6 +254,33 @@ def test_planning_near_a_place_by_a_wall_ends_on_walkable_ground_beside_it():
     assert heading is not None and math.cos(heading) > 0.5  # (an 8-connected path: up to 45 degrees off)
 
 
+def test_homing_reuses_its_search_only_from_the_same_cell_on_the_same_grids():
+    """Homing plans at every step, and the robot stays in one cell for several: from the same cell
+    to the same place on unchanged grids the search is reused, and the heading still comes from the
+    robot's exact position. A bump, a scan with new ground, or grids written by hand (announced
+    with ``grids_replaced``) make it search again."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0})
+    m.free[:] = 1
+    place = np.array([2.0, 0.0])
+    first = m.heading_to_near(np.array([-2.0, 0.0]), place, 0.3)
+    searches = int(m._search_id[0])
+    nudged = m.heading_to_near(np.array([-2.0, 0.05]), place, 0.3)  # the same cell
+    assert int(m._search_id[0]) == searches and first is not None and nudged is not None
+    assert nudged != first and abs(nudged - first) < math.radians(5)
+    wall_row = m.index(0.0, 0.0)[0]
+    m.hits[wall_row, m.index(0.0, -3.0)[1] : m.index(0.0, 2.0)[1]] = 5  # a wall across the way ...
+    m.grids_replaced()  # ... written by hand, so announced
+    around = m.heading_to_near(np.array([-2.0, 0.0]), place, 0.3)
+    assert around is not None and math.sin(around) > 0.3, math.degrees(around)  # round the wall's open end, at +y
+    revision = m.revision
+    m.mark_bump(np.array([-2.0, 0.0]), around, 0.3)
+    assert m.revision == revision + 1
+    m.heading_to_near(np.array([-2.0, 0.0]), place, 0.3)
+    assert int(m._search_id[0]) > searches + 1  # searched again after the bump
+    m.observe(np.array([-2.0, 0.0]), 0.0, ring_scan(radius=1.0), max_range=10.0, unknown_only=True)
+    assert m.revision == revision + 1  # (a scan of ground the map knows changes nothing)
+
+
 def test_a_local_search_marks_a_narrower_path_and_starts_afresh_round_the_place():
     m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.6})
     m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0)

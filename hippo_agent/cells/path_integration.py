@@ -146,7 +146,8 @@ class PathIntegrator:
         if spread > 0:
             self.rng.standard_normal(out=self._noise)
         _kernels.shift(self.particles, self.last_step, spread, self._noise)
-        self.ruled_out += self.last_step
+        if self.ruled_out.size:
+            self.ruled_out += self.last_step
 
     def correct(
         self,
