@@ -89,6 +89,13 @@ class Args:
     """peak resident memory aimed for at --target-cells (MB)"""
     target_replay_ms: float = 100.0
     """time of one replay aimed for at --target-cells (ms)"""
+    against: str = ""
+    """also time this model ('paper' or 'default') at each cell count, its repeats alternating with
+    --model's, exploiting: each pair's ratio of steps/s is then read on one load of the machine"""
+    against_reference: float = 17_320.0
+    """the --against model's exploiting steps/s at 1000 place cells on the machine where the targets
+    were set (17,320: the paper's model in benchmarks/results/agent_throughput.json at commit 794bf4b);
+    with --against, the median ratio times this estimates --model's steps/s there (0: no estimate)"""
     out: str = ""
     """where the JSON goes (relative to the repository root unless absolute); '' = benchmarks/results/
     agent_throughput.json, or with --scaling benchmarks/results/agent_scaling_<model>.json (the figure beside it)"""
@@ -137,19 +144,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
     its memory. With ``split``, one more (instrumented) pass of each walk splits the time of a step
     into :data:`AGENT_TERMS` (microseconds per step)."""
     resident_at_start = resident_megabytes()
-    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
-    env.reset(seed=args.seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, make_config(args.model, n_place, args.dry_run_steps), seed=args.seed)
-    began = time.perf_counter()
-    agent.dry_run(env)
-    dry_run_seconds = time.perf_counter() - began
-    agent.start_trial(0)
-    for goal_runs in range(1, MAX_GOAL_RUNS + 1):  # explore until the goal, which triggers the replay
-        observation, info = env.reset(options={"goal": [0.0, 0.0]})
-        agent.reset(observation, info)
-        run = rollout(env, agent, observation)
-        if agent.goal_rewarded:  # (a goal reached with no place cell active there teaches nothing: run again)
-            break
+    env, agent, dry_run_seconds, goal_runs, run = _trained(args.model, n_place, args)
     before_timing = copy.deepcopy(agent.reward)  # replaying again adds to the reward weights: put them back after
     replay_from_cells = int(np.count_nonzero(agent.place.v > 0))  # replay spreads from the cells active at the goal
     replay_ms = []
@@ -159,14 +154,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
         replay_ms.append(1e3 * (time.perf_counter() - began))
     replay_split = _replay_split(agent) if split else None
     agent.reward = before_timing
-
-    walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
-    recorded = []
-    observation, info = env.reset(options={"goal": None})
-    for action in walk.tolist():
-        observation, _, _, _, info = env.step(action)
-        recorded.append((action, observation, info))
-    env.close()
+    recorded = _recorded_walk(env, args)
     row: dict[str, Any] = {"n_place": n_place, "n_bvc": agent.bvc.n}
     for mode, exploit in (("exploiting", True), ("exploring", False)):
         wall, cpu, stats = _timed(agent, recorded, exploit, args.repeats)
@@ -193,6 +181,61 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
         "peak_rss_above_start_mb": round(peak_resident_megabytes() - resident_at_start, 1),
     }
     return row
+
+
+def _trained(model: str, n_place: int, args: Args) -> tuple[gym.Env, HippocampalAgent, float, int, Any]:
+    """The environment and the ``model`` agent with ``n_place`` cells after its dry run and the runs
+    that find the goal (which replay); the dry run's seconds, the runs made and the last one."""
+    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
+    env.reset(seed=args.seed)
+    agent = HippocampalAgent(env.observation_space, env.action_space, make_config(model, n_place, args.dry_run_steps), seed=args.seed)
+    began = time.perf_counter()
+    agent.dry_run(env)
+    dry_run_seconds = time.perf_counter() - began
+    agent.start_trial(0)
+    for goal_runs in range(1, MAX_GOAL_RUNS + 1):  # explore until the goal, which triggers the replay
+        observation, info = env.reset(options={"goal": [0.0, 0.0]})
+        agent.reset(observation, info)
+        run = rollout(env, agent, observation)
+        if agent.goal_rewarded:  # (a goal reached with no place cell active there teaches nothing: run again)
+            break
+    return env, agent, dry_run_seconds, goal_runs, run
+
+
+def _recorded_walk(env: gym.Env, args: Args) -> list:
+    """A random walk of ``args.steps`` steps with no goal, as (action, observation, info); closes ``env``."""
+    walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
+    recorded = []
+    observation, info = env.reset(options={"goal": None})
+    for action in walk.tolist():
+        observation, _, _, _, info = env.step(action)
+        recorded.append((action, observation, info))
+    env.close()
+    return recorded
+
+
+def alternating(n_place: int, args: Args) -> dict[str, Any]:
+    """``args.model`` and ``args.against``, each trained and given its own recorded walk as in
+    :func:`measure`, timed exploiting in alternation, ``args.repeats`` times each: the steps/s of
+    each pair, their ratios, and the median ratio (at 1000 cells and with ``args.against_reference``,
+    times it: an estimate of ``args.model`` on the machine that reference was measured on)."""
+    walks = {}
+    for model in (args.model, args.against):
+        env, agent, *_ = _trained(model, n_place, args)
+        walks[model] = (agent, _recorded_walk(env, args))
+        agent.goal_rewarded = True
+    pairs = []
+    for _ in range(args.repeats):
+        pairs.append([len(recorded) / _walk(agent, recorded)[0] for agent, recorded in walks.values()])
+    ratios = [a / b for a, b in pairs]
+    median = float(np.median(ratios))
+    return {
+        "against": args.against,
+        "steps_per_second_pairs": [[round(a), round(b)] for a, b in pairs],
+        "ratios": [round(r, 3) for r in ratios],
+        "median_ratio": round(median, 3),
+        "estimate_at_reference": round(median * args.against_reference) if args.against_reference > 0 and n_place == 1000 else None,
+    }
 
 
 def _timed(agent: HippocampalAgent, recorded: list, exploit: bool, repeats: int) -> tuple[float, float, dict]:
@@ -268,6 +311,13 @@ def main(argv: list[str] | None = None) -> None:
     rows = []
     for n_place in args.cells:
         row = measure(n_place, args)
+        if args.against:
+            row["alternating"] = alternating(n_place, args)
+            alt = row["alternating"]
+            print(
+                f"  {n_place:5d} place cells, alternating with the {args.against} model: ratios {alt['ratios']}, median {alt['median_ratio']}"
+                + ("" if alt["estimate_at_reference"] is None else f", estimate at the reference {alt['estimate_at_reference']:,} steps/s")
+            )
         peer = _ratinabox_steps_per_second(n_place, row["n_bvc"], args) if args.peer_steps > 0 else None
         row["ratinabox_steps_per_second"] = None if peer is None else round(peer)
         row["exploiting_x_ratinabox"] = None if peer is None else round(row["exploiting_steps_per_second"] / peer, 2)
@@ -289,12 +339,13 @@ def main(argv: list[str] | None = None) -> None:
 
 def targets_1000_cells(rows: list[dict[str, Any]], args: Args) -> dict[str, Any] | None:
     """The issue's targets at 1000 place cells, exploiting: steps/s, and steps/s over RatInABox's
-    (``None`` where RatInABox was not timed); ``None`` without a 1000-cell row."""
+    (``None`` where RatInABox was not timed); with ``--against`` and a reference, also the steps/s
+    estimated on the reference machine (:func:`alternating`). ``None`` without a 1000-cell row."""
     row = next((r for r in rows if r["n_place"] == 1000), None)
     if row is None:
         return None
     steps, ratio = row["exploiting_steps_per_second"], row.get("exploiting_x_ratinabox")
-    return {
+    out = {
         "steps_per_second": {"target": args.target, "measured": steps, "met": steps >= args.target},
         "x_ratinabox": {
             "target": args.target_x_ratinabox,
@@ -302,6 +353,10 @@ def targets_1000_cells(rows: list[dict[str, Any]], args: Args) -> dict[str, Any]
             "met": None if ratio is None else ratio >= args.target_x_ratinabox,
         },
     }
+    estimate = row.get("alternating", {}).get("estimate_at_reference")
+    if estimate is not None:
+        out["steps_per_second_at_reference"] = {"target": args.target, "estimated": estimate, "met": estimate >= args.target}
+    return out
 
 
 def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:

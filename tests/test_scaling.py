@@ -4,6 +4,7 @@ tables' shape, the split of a step into parts, the slopes. Nothing here asserts 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -164,3 +165,23 @@ def test_agent_targets_at_1000_cells_judge_the_exploiting_walk_and_the_ratio_to_
     assert judged["x_ratinabox"] == {"target": 25.0, "measured": 24.9, "met": False}
     assert agent_throughput.targets_1000_cells([{**row, "exploiting_x_ratinabox": None}], args)["x_ratinabox"]["met"] is None
     assert agent_throughput.targets_1000_cells([{**row, "n_place": 250}], args) is None
+    assert "steps_per_second_at_reference" not in judged  # no alternating timing, no estimate
+    alternated = {**row, "alternating": {"estimate_at_reference": 7_900}}
+    assert agent_throughput.targets_1000_cells([alternated], agent_throughput.Args(target=8_000))["steps_per_second_at_reference"] == {
+        "target": 8_000,
+        "estimated": 7_900,
+        "met": False,
+    }
+
+
+def test_alternating_timing_pairs_the_two_models_repeat_by_repeat(monkeypatch):
+    monkeypatch.setattr(agent_throughput, "rollout", functools.partial(rollout, max_steps=50))  # run 1 need not find the goal
+    args = agent_throughput.Args(steps=20, repeats=3, dry_run_steps=20, peer_steps=0, model="default", against="paper")
+    alt = agent_throughput.alternating(40, args)
+    assert alt["against"] == "paper" and len(alt["steps_per_second_pairs"]) == 3 and len(alt["ratios"]) == 3
+    for (ours, theirs), ratio in zip(alt["steps_per_second_pairs"], alt["ratios"], strict=True):
+        assert ours > 0 and theirs > 0 and ratio == pytest.approx(ours / theirs, rel=0.01)
+    assert alt["median_ratio"] == sorted(alt["ratios"])[1]
+    assert alt["estimate_at_reference"] is None  # (an estimate only for the 1000-cell row the reference was measured at)
+    with pytest.raises(ValueError, match="allowed: default, paper"):
+        agent_throughput.alternating(40, dataclasses.replace(args, against="fast"))
