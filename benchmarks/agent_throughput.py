@@ -25,10 +25,12 @@ table and a figure (``.png`` beside the JSON). RatInABox is not timed there.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import dataclasses
 import datetime
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -160,8 +162,7 @@ def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
         wall, cpu, stats = _timed(agent, recorded, exploit, args.repeats)
         row[f"{mode}_steps_per_second"] = round(wall)
         row[f"{mode}_steps_per_cpu_second"] = round(cpu)
-        if exploit:
-            row["exploit_decisions"] = stats
+        row["exploit_decisions" if exploit else "explore_decisions"] = stats
         if split:
             row[f"{mode}_split_us_per_step"] = _split(agent, recorded, exploit)
     w_pp_bytes = sum(a.nbytes for a in vars(agent.place).values() if isinstance(a, np.ndarray) and a.ndim == 3)
@@ -219,14 +220,14 @@ def alternating(n_place: int, args: Args) -> dict[str, Any]:
     :func:`measure`, timed exploiting in alternation, ``args.repeats`` times each: the steps/s of
     each pair, their ratios, and the median ratio (at 1000 cells and with ``args.against_reference``,
     times it: an estimate of ``args.model`` on the machine that reference was measured on)."""
-    walks = {}
-    for model in (args.model, args.against):
+    walks = []
+    for model in (args.model, args.against):  # (the same model twice measures the machine's noise)
         env, agent, *_ = _trained(model, n_place, args)
-        walks[model] = (agent, _recorded_walk(env, args))
+        walks.append((agent, _recorded_walk(env, args)))
         agent.goal_rewarded = True
     pairs = []
     for _ in range(args.repeats):
-        pairs.append([len(recorded) / _walk(agent, recorded)[0] for agent, recorded in walks.values()])
+        pairs.append([len(recorded) / _walk(agent, recorded)[0] for agent, recorded in walks])
     ratios = [a / b for a, b in pairs]
     median = float(np.median(ratios))
     return {
@@ -238,14 +239,30 @@ def alternating(n_place: int, args: Args) -> dict[str, Any]:
     }
 
 
+@contextlib.contextmanager
+def _heading_for_the_goal(agent: HippocampalAgent, exploit: bool) -> Iterator[None]:
+    """Exploiting: the agent knows the goal (its reward map, and in the default model the place
+    where it found it), so it preplays or homes at every step. Exploring: it knows neither (the
+    remembered place is hidden for the walk, or the default model would home), so it searches as
+    in a run 1."""
+    found = agent.reward.found_count.copy()
+    agent.goal_rewarded = exploit
+    if not exploit:
+        agent.reward.found_count[:] = 0.0
+    try:
+        yield
+    finally:
+        agent.reward.found_count[:] = found
+
+
 def _timed(agent: HippocampalAgent, recorded: list, exploit: bool, repeats: int) -> tuple[float, float, dict]:
-    """Best steps/s (wall and CPU) of act + observe over the recorded walk."""
-    agent.goal_rewarded = exploit  # exploring ignores the reward map; exploiting preplays (or homes) every step
+    """Best steps/s (wall and CPU) of act + observe over the recorded walk, and the last walk's decisions."""
     best_wall = best_cpu = 0.0
-    for _ in range(repeats):
-        wall, cpu = _walk(agent, recorded)
-        best_wall = max(best_wall, len(recorded) / wall)
-        best_cpu = max(best_cpu, len(recorded) / max(cpu, 1e-9))
+    with _heading_for_the_goal(agent, exploit):
+        for _ in range(repeats):
+            wall, cpu = _walk(agent, recorded)
+            best_wall = max(best_wall, len(recorded) / wall)
+            best_cpu = max(best_cpu, len(recorded) / max(cpu, 1e-9))
     return best_wall, best_cpu, dict(agent.episode_stats)
 
 
@@ -262,7 +279,11 @@ def _walk(agent: HippocampalAgent, recorded: list) -> tuple[float, float]:
 def _split(agent: HippocampalAgent, recorded: list, exploit: bool) -> dict[str, Any]:
     """Microseconds per step in each of :data:`AGENT_TERMS` and ``other``, from one instrumented
     walk (slightly slower than the timed ones: the shares are what to read)."""
-    agent.goal_rewarded = exploit
+    with _heading_for_the_goal(agent, exploit):
+        return _split_walk(agent, recorded)
+
+
+def _split_walk(agent: HippocampalAgent, recorded: list) -> dict[str, Any]:
     timer = SplitTimer()
     for term, methods in AGENT_TERMS.items():
         for owner, name in methods:

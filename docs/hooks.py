@@ -36,6 +36,7 @@ INDIRECTNESS_TARGET = {"open": 0.3, "maze1": 0.4, "maze2": 0.7, "maze3": 0.7, "m
 GENERATED_TARGET = 1.0  # runs 2-4 median indirectness in every generated maze
 REACHED_TARGET = 0.95  # of runs 2-4 reach the goal (generated mazes)
 DEFAULT_SPEED_TARGET = 8000  # steps/s of the default model at 1000 place cells
+MODEL_NAMES = {"paper": "paper's model", "default": "default model"}
 
 
 # ------------------------------------------------------------------ formatting
@@ -238,10 +239,22 @@ def agent_throughput() -> str:
                 f"{num(ratio['measured'])}x (target {num(ratio['target'])}x: {'met' if ratio['met'] else '**missed**'})",
             ]
         )
-    default = load("agent_throughput_default.json")["targets_1000_cells"]["steps_per_second"]["measured"]
+    data = load("agent_throughput_default.json")
+    default = data["targets_1000_cells"]["steps_per_second"]["measured"]
     note = f"\n\nIssue 21 asked the default model for {num(DEFAULT_SPEED_TARGET)} steps/s: " + (
-        "met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)})."
+        "met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)}) on this machine."
     )
+    alternating = next((r["alternating"] for r in data["rows"] if r["n_place"] == 1000 and "alternating" in r), None)
+    if alternating is not None and alternating["estimate_at_reference"] is not None:
+        estimate = alternating["estimate_at_reference"]
+        ratios = alternating["ratios"]
+        note += (
+            f" Timed in alternation with the {MODEL_NAMES[alternating['against']]} (`--against {alternating['against']}`), pair by pair"
+            f" on one load of the machine, it ran {min(ratios):.2f}-{max(ratios):.2f} times as fast (median"
+            f" {alternating['median_ratio']:.3f}, {len(ratios)} pairs); times that model's"
+            f" {num(data['args']['against_reference'])} steps/s on the machine where the targets were set, about"
+            f" {num(estimate)} there: {'met' if estimate >= DEFAULT_SPEED_TARGET else '**missed**'}."
+        )
     return (
         table(["agent, 1000 place cells, 720 rays, learning on", "steps/s exploiting", "x RatInABox"], rows)
         + note

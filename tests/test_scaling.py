@@ -185,3 +185,17 @@ def test_alternating_timing_pairs_the_two_models_repeat_by_repeat(monkeypatch):
     assert alt["estimate_at_reference"] is None  # (an estimate only for the 1000-cell row the reference was measured at)
     with pytest.raises(ValueError, match="allowed: default, paper"):
         agent_throughput.alternating(40, dataclasses.replace(args, against="fast"))
+
+
+def test_the_exploring_walk_hides_the_remembered_place_so_the_default_model_searches():
+    """The default model homes to where it found the goal whether or not its reward map is on:
+    the exploring walk hides that place (and puts it back after), so it times a run 1's search."""
+    args = agent_throughput.Args(steps=30, repeats=1, dry_run_steps=30, peer_steps=0)
+    env, agent, *_ = agent_throughput._trained("default", 60, args)
+    recorded = agent_throughput._recorded_walk(env, args)
+    agent.reward.remember_place(np.zeros(2))  # (whether or not run 1 found the goal)
+    place = agent.reward.remembered_place().copy()
+    for exploit in (False, True):
+        *_, decisions = agent_throughput._timed(agent, recorded, exploit, 1)
+        assert (decisions["home"] > 0) == exploit, decisions
+        assert np.array_equal(agent.reward.remembered_place(), place)
