@@ -131,7 +131,7 @@ class HippocampalAgent:
         self.goal_rewarded = False  # the current goal's reward map has been learnt at least once
         self.started = False  # reset() has been called for the current run
         self.intended_heading = 0.0  # exploration's continuous intended heading (rad)
-        self.segment_left = 0  # exploration steps left in the current straight segment
+        self.segment_left = 0  # exploration steps left in the current straight segment (-1: not drawn yet)
         self.escape_left = 0  # exploration steps left after a bump while exploiting
         self.homing_done = False  # this run reached the remembered goal place without reward
         self.memory_failures = 0  # searches round the remembered place that found no reward, this run
@@ -339,10 +339,7 @@ class HippocampalAgent:
         if plastic and (dry or c.learn_pb_in_trials):
             self.place.learn_pb(b)
         if plastic and c.path_integration:
-            where = self.pi.lagged_estimate()
-            self.place.learn_centres(where, c.pi_centre_max_mass)
-            if c.pi_vote_by_spread:
-                self.place.learn_spread(where, c.pi_centre_max_mass)
+            self.place.learn_centres(self.pi.lagged_estimate(), c.pi_centre_max_mass, spread=c.pi_vote_by_spread)
         self.place.update_hd_trace(h)
         learn_pp = (not dry or c.learn_pp_in_dry_run) and (c.learn_pp_in_exploitation or self.last_decision == "explore")
         if plastic and learn_pp and not collision:  # no W_pp learning against a wall (model-figures)
@@ -394,11 +391,10 @@ class HippocampalAgent:
     def _odometry_step(self, observation: dict, heading_vec: np.ndarray) -> np.ndarray:
         """The allocentric displacement: the encoders' (forward, left) rotated by the compass."""
         try:
-            forward, left = observation["odometry"]
-            forward, left = float(forward), float(left)
+            forward, left = np.asarray(observation["odometry"], dtype=np.float64).tolist()  # (floats: faster arithmetic)
         except (KeyError, TypeError, ValueError) as exc:
             raise ValueError("observation must hold 'odometry' (forward, left) in metres: path integration needs it") from exc
-        hx, hy = float(heading_vec[0]), float(heading_vec[1])
+        hx, hy = heading_vec.tolist()
         norm = math.hypot(hx, hy) or 1.0
         c, s = hx / norm, hy / norm
         return np.array([c * forward - s * left, s * forward + c * left])
@@ -483,16 +479,18 @@ class HippocampalAgent:
         if self.map is None or self.phase == "dry" or not self.pi.anchored or self._scan is None or self.total_steps % every:
             return
         ranges, heading = self._scan
-        points = np.concatenate((self.pi.estimate[None, :], self.pi.estimate + self.look_alikes))
-        fits = self.map.scan_agreement(points, heading, ranges, self.max_range)
+        fits = self.map.scan_agreement(self.look_alikes, heading, ranges, self.max_range, around=self.pi.estimate)
         rate = min(1.0, self.config.map_fit_rate * every)
-        self.fit = (1.0 - rate) * self.fit + rate * fits[0]
+        own = float(fits[0])
+        self.fit = (1.0 - rate) * self.fit + rate * own
         if self.fit < self.config.lost_agreement:
             self._relocalise()
         elif len(self.look_alikes):
-            self.own_fit = (1.0 - rate) * self.own_fit + rate * fits[0]
-            self.look_alike_fit = (1.0 - rate) * self.look_alike_fit + rate * fits[1:]
-            if self.look_alike_fit.max() > self.own_fit + self.config.doubt_margin:
+            self.own_fit = (1.0 - rate) * self.own_fit + rate * own
+            # (in floats: faster than NumPy on a few values)
+            running = [(1.0 - rate) * old + rate * new for old, new in zip(self.look_alike_fit.tolist(), fits.tolist()[1:])]
+            self.look_alike_fit = np.array(running)
+            if max(running) > self.own_fit + self.config.doubt_margin:
                 self._relocalise(rule_out=True)
 
     def _relocalise(self, rule_out: bool = False) -> None:
@@ -538,9 +536,11 @@ class HippocampalAgent:
     def _home_heading(self) -> float | None:
         """Toward where the current goal's reward was found (by path integration).
 
-        Within ``home_radius`` of that place: along the map's walkable path to ground within
-        ``search_radius`` of it (the place, where the robot entered the goal disk, may lie by a
-        wall, off the walkable map), then straight on. Once there (``home_arrived``), or stopped by
+        Within ``home_radius`` of that place: straight at it while the line to within
+        ``search_radius`` of it crosses walkable ground only, a cell to spare on either side
+        (:meth:`ExplorationMap.in_sight`), else along the map's walkable path to
+        ground within ``search_radius`` of it (the place, where the robot entered the goal disk, may
+        lie by a wall, off the walkable map), then straight on. Once there (``home_arrived``), or stopped by
         a wall on that last stretch, without the reward: a local search, the nearest ground within
         ``home_search_radius`` not yet searched (afresh, marked ``home_search_mark`` wide). When
         none is left, or after ``home_bump_limit`` bumps while homing, the agent anchors afresh;
@@ -565,6 +565,8 @@ class HippocampalAgent:
                 self._memory_failed()  # searched all round the place without finding the reward
         elif distance <= c.search_radius:
             heading = math.atan2(target[1] - here[1], target[0] - here[0])  # straight on; a bump ends homing
+        elif self.map.in_sight(here, self._toward(here, target, distance - c.search_radius)):
+            heading = math.atan2(target[1] - here[1], target[0] - here[0])  # walkable all the way: straight at it
         else:
             # the place itself may be by a wall, off the walkable map: path to walkable ground
             # within search_radius of it, the ground from which the robot goes straight on
@@ -572,8 +574,17 @@ class HippocampalAgent:
             if heading is None:
                 return None  # no known path: preplay or exploration instead of pushing at a wall
         if heading is not None:
-            self._new_segment(heading)
+            # if exploration takes over, it goes on this way; its segment's length is drawn then
+            self.intended_heading, self.segment_left = heading, -1
         return heading
+
+    @staticmethod
+    def _toward(start: np.ndarray, end: np.ndarray, length: float) -> tuple[float, float]:
+        """The point ``length`` metres from ``start`` toward ``end``."""
+        x, y = float(start[0]), float(start[1])
+        dx, dy = float(end[0]) - x, float(end[1]) - y
+        f = length / math.hypot(dx, dy)
+        return x + f * dx, y + f * dy
 
     def _memory_failed(self) -> None:
         """Homing led nowhere: the estimate is most likely at a look-alike place; anchor afresh
@@ -746,7 +757,9 @@ class HippocampalAgent:
     def _random_heading(self) -> float:
         """Straight segments of ``segment_min..segment_max`` steps, then a N(0, sigma) turn."""
         c = self.config
-        if self.segment_left <= 0:
+        if self.segment_left < 0:  # homing's heading: a segment along it, of a length drawn now
+            self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))
+        elif self.segment_left == 0:
             turn = self.rng.normal(0.0, math.radians(c.turn_sigma_deg))
             self.intended_heading = wrap_angle(self.intended_heading + turn)
             self.segment_left = int(self.rng.integers(c.segment_min, c.segment_max + 1))

@@ -26,7 +26,8 @@ cells from the robot's cell and heads straight for the farthest point of the pat
   the place: it finds paths exactly as short as the breadth-first search's over the same cells,
   but expands only the cells along its way, not every cell nearer than the place. While the
   robot stays in one cell and the grids do not change (the map's *revision* counts the
-  changes), the path is the same: it is searched once.
+  changes), the path is the same: it is searched once. Whether a cell is walkable, which every
+  search asks of the cells it reaches, is likewise worked out once per revision.
 """
 
 from __future__ import annotations
@@ -70,6 +71,9 @@ class ExplorationMap:
     ) -> None:
         self.extent = float(extent)
         self.cell = float(cell)
+        # 1 / cell where multiplying by it is exactly dividing by cell (cell a power of two, as the
+        # default 0.25 m), else 0: the compiled ray marches then divide (see _grid_index)
+        self._inv_cell = 1.0 / self.cell if math.frexp(self.cell)[0] == 0.5 else 0.0
         self.visit_radius = float(visit_radius)
         self.search_radius = float(search_radius)
         self.lookahead_cells = max(1, round(lookahead / cell))
@@ -88,9 +92,10 @@ class ExplorationMap:
         self._parent = np.zeros(n * n, dtype=np.int32)
         self._queue = np.zeros(n * n, dtype=np.int32)
         self._depth = np.zeros(n * n, dtype=np.int32)
-        # and whether a cell is walkable, worked out once per search (stamped as above)
+        # and whether a cell is walkable, worked out once per state of the grids (_walk_id)
         self._walk_stamp = np.zeros(n * n, dtype=np.int32)
         self._walk = np.zeros(n * n, dtype=np.bool_)
+        self._walk_ids, self._walk_revision = 0, -1
         # the search into a disk (A*): path lengths so far, cells done, and its priority queue
         self._steps = np.zeros(n * n, dtype=np.int32)
         self._closed = np.zeros(n * n, dtype=np.int32)
@@ -122,7 +127,7 @@ class ExplorationMap:
         stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
         if _enter_scan(
             self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
-            float(max_range), self.extent, self.cell, self.free_range, self.hit_range, unknown_only,
+            float(max_range), self.extent, self.cell, self._inv_cell, self.free_range, self.hit_range, unknown_only,
         ):  # fmt: skip
             self.revision += 1
         _mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
@@ -144,10 +149,13 @@ class ExplorationMap:
 
     def grids_replaced(self) -> None:
         """Call after writing ``free`` or ``hits`` other than through :meth:`observe` and
-        :meth:`mark_bump` (as loading a saved agent does): searches made on the old grids are not reused."""
+        :meth:`mark_bump` (as loading a saved agent does): searches made on the old grids, and the
+        walkability they worked out, are not reused."""
         self.revision += 1
 
-    def scan_agreement(self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float) -> np.ndarray:
+    def scan_agreement(
+        self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, around: np.ndarray | None = None
+    ) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
         map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
         that ended on a boundary within ``hit_range``, +1 if the map has a wall within one cell of
@@ -156,12 +164,17 @@ class ExplorationMap:
         through no wall is left out: its end is too far to place on the map).
         Look-alike places that the place code confuses differ here, as the map holds their
         surroundings beyond the nearest walls, and a long ray out through a door passes through a
-        wall from a look-alike room whose door is elsewhere."""
-        out = np.empty(points.shape[0])
+        wall from a look-alike room whose door is elsewhere.
+
+        With ``around`` (a position), ``points`` are offsets from it, and the fit at ``around`` itself
+        comes first: ``len(points) + 1`` fits."""
+        x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
+        out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         _scan_agreement(
-            self.free, self.hits, points, float(heading), ranges, stride, float(max_range), self.extent, self.cell, self.hit_range, out
-        )
+            self.free, self.hits, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
+            self.cell, self._inv_cell, self.hit_range, out,
+        )  # fmt: skip
         return out
 
     def new_run(self) -> None:
@@ -189,6 +202,19 @@ class ExplorationMap:
         heading = self._plan_into_disk(position, centre, radius, self._nothing)
         return self._plan_into_disk(position, centre, radius, self._nothing, squeeze=True) if heading is None else heading
 
+    def in_sight(self, position: np.ndarray, point: np.ndarray | tuple[float, float], margin: int = 1) -> bool:
+        """Whether the straight line from ``position`` to ``point`` (frame metres), and the lines
+        beside it up to ``margin`` cells to either side, pass over walkable cells only (free cells
+        that are not walls within two cells of their start): a line the robot can follow with room
+        to spare, where the planner's path may hug a wall (:meth:`heading_to_near`)."""
+        gx, gy = (float(position[0]) + self.extent) / self.cell, (float(position[1]) + self.extent) / self.cell
+        tx, ty = (float(point[0]) + self.extent) / self.cell, (float(point[1]) + self.extent) / self.cell
+        length = math.hypot(tx - gx, ty - gy)
+        if length == 0.0:
+            return True
+        nx, ny = (gy - ty) / length, (tx - gx) / length  # the unit normal, in cells
+        return bool(_lines_clear(self.free, self.hits, gx, gy, tx, ty, nx, ny, margin, self._walk_stamp, self._walk, self._walk_id()))
+
     def heading_to(self, position: np.ndarray, target: int) -> float | None:
         """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
         if it cannot be reached or the robot is there."""
@@ -202,7 +228,7 @@ class ExplorationMap:
         self._last_plan = None  # (this search overwrites the last one's paths)
         _, reached = _search(
             self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False,
-            self._walk_stamp, self._walk,
+            self._walk_stamp, self._walk, self._walk_id(),
         )  # fmt: skip
         return _known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
@@ -239,7 +265,7 @@ class ExplorationMap:
         if disk is None:
             found, _ = _search(
                 self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze,
-                self._walk_stamp, self._walk,
+                self._walk_stamp, self._walk, self._walk_id(),
             )  # fmt: skip
         else:  # the disk in grid units, as _mark_disk draws it
             cx, cy = float(disk[0][0]), float(disk[0][1])
@@ -247,6 +273,7 @@ class ExplorationMap:
             found = _search_disk(
                 self.free, self.hits, known, i, j, float(dx), float(dy), float(dr), squeeze, self._search_id[0],
                 self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_stamp, self._walk,
+                self._walk_id(),
             )  # fmt: skip
         self._last_plan, self._last_found = plan, int(found)
         return int(found)
@@ -265,8 +292,21 @@ class ExplorationMap:
             return None
         x, y = float(position[0]), float(position[1])
         gx, gy = (x + self.extent) / self.cell, (y + self.extent) / self.cell
-        wx, wy = self.centre(_waypoint(self.free, self.hits, self._parent, found, gx, gy, self.lookahead_cells, squeeze, self._depth))
+        wx, wy = self.centre(
+            _waypoint(
+                self.free, self.hits, self._parent, found, gx, gy, self.lookahead_cells, squeeze, self._depth,
+                self._walk_stamp, self._walk, self._walk_id(),
+            )
+        )  # fmt: skip
         return math.atan2(wy - y, wx - x)
+
+    def _walk_id(self) -> int:
+        """The id under which the searches cache walkability: a new one whenever the grids have
+        changed (:attr:`revision`), as walkability depends on them alone."""
+        if self._walk_revision != self.revision:
+            self._walk_revision = self.revision
+            self._walk_ids += 1
+        return self._walk_ids
 
     # ------------------------------------------------------------------ measures
     def index(self, x: float, y: float) -> tuple[int, int]:
@@ -303,9 +343,16 @@ class ExplorationMap:
 
 
 # ---------------------------------------------------------------------------- compiled loops
+@njit(cache=True, inline="always")
+def _grid_index(v, cell, inv_cell):  # pragma: no cover - compiled
+    """``floor(v / cell)``: by multiplying with ``inv_cell`` when that is exact (``inv_cell > 0``,
+    a power-of-two cell): a division is the slowest step of the ray marches' inner loops."""
+    return math.floor(v * inv_cell) if inv_cell > 0.0 else math.floor(v / cell)
+
+
 @njit(cache=True)
 def _enter_scan(
-    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, free_range, hit_range, unknown_only
+    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, unknown_only
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
     (with ``unknown_only``, only cells neither free nor hit so far). Returns how many counts changed."""
@@ -321,8 +368,8 @@ def _enter_scan(
         t = 0.0
         last_i, last_j = -1, -1
         while t < reach:
-            i = math.floor((x + t * c + extent) / cell)
-            j = math.floor((y + t * s + extent) / cell)
+            i = _grid_index(x + t * c + extent, cell, inv_cell)
+            j = _grid_index(y + t * s + extent, cell, inv_cell)
             if i < 0 or j < 0 or i >= n or j >= n:
                 break
             if i != last_i or j != last_j:
@@ -332,8 +379,8 @@ def _enter_scan(
                 last_i, last_j = i, j
             t += step
         if d < hit_range and d < max_range * 0.999:
-            i = math.floor((x + d * c + extent) / cell)
-            j = math.floor((y + d * s + extent) / cell)
+            i = _grid_index(x + d * c + extent, cell, inv_cell)
+            j = _grid_index(y + d * s + extent, cell, inv_cell)
             if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
                 hits[i, j] += 1
                 changed += 1
@@ -341,7 +388,11 @@ def _enter_scan(
 
 
 @njit(cache=True)
-def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, extent, cell, hit_range, out):  # pragma: no cover - compiled
+def _scan_agreement(
+    free, hits, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range, out
+):  # pragma: no cover - compiled
+    """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
+    ``(ox, oy)`` itself ``with_origin``."""
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -349,8 +400,10 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
     for q in range(m):
         angle = heading + 2.0 * math.pi * (q * stride) / n_rays
         cos_[q], sin_[q], dist[q] = math.cos(angle), math.sin(angle), ranges[q * stride]
-    for p in range(points.shape[0]):
-        x, y = points[p, 0] + extent, points[p, 1] + extent
+    for p in range(out.size):
+        k = p - 1 if with_origin else p
+        x = (ox if k < 0 else ox + points[k, 0]) + extent
+        y = (oy if k < 0 else oy + points[k, 1]) + extent
         total = 0.0
         counted = 0
         for q in range(m):
@@ -360,8 +413,8 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
             through = False  # the ray passed through a wall the map holds
             t = 0.5
             while t < d - 0.5:
-                a = math.floor((x + t * c) / cell)
-                b = math.floor((y + t * s) / cell)
+                a = _grid_index(x + t * c, cell, inv_cell)
+                b = _grid_index(y + t * s, cell, inv_cell)
                 if 0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b]:  # (a wall, written out: faster)
                     through = True
                     break
@@ -373,8 +426,8 @@ def _scan_agreement(free, hits, points, heading, ranges, stride, max_range, exte
             if far:  # a long ray's end is too far to place on the map; only its free stretch counts
                 continue
             counted += 1
-            i = math.floor((x + d * c) / cell)
-            j = math.floor((y + d * s) / cell)
+            i = _grid_index(x + d * c, cell, inv_cell)
+            j = _grid_index(y + d * s, cell, inv_cell)
             if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
                 continue
             wall = False
@@ -435,34 +488,30 @@ def _walkable(free, hits, i, j):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
-def _passable(free, hits, i, j, near_start):  # pragma: no cover - compiled
-    """Walkable, or (within two steps of the start) at least free and not a wall."""
-    return _walkable(free, hits, i, j) or (near_start and _free_not_wall(free, hits, i, j))
-
-
-@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
 def _free_not_wall(free, hits, i, j):  # pragma: no cover - compiled
     n = free.shape[0]
     return 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
 
 
 @njit(cache=True, inline="always")
-def _walkable_once(free, hits, i, j, walk_stamp, walk, search_id):  # pragma: no cover - compiled
-    """:func:`_walkable`, remembered in ``walk`` for the search ``search_id`` (``walk_stamp``)."""
+def _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """:func:`_walkable`, remembered in ``walk`` under ``walk_id`` (``walk_stamp``): one id per
+    state of the grids, so that searches on unchanged grids reuse what earlier ones worked out."""
     n = free.shape[0]
     if i < 0 or j < 0 or i >= n or j >= n:
         return False
     k = i * n + j
-    if walk_stamp[k] != search_id:
-        walk_stamp[k] = search_id
+    if walk_stamp[k] != walk_id:
+        walk_stamp[k] = walk_id
         walk[k] = _walkable(free, hits, i, j)
     return walk[k]
 
 
 @njit(cache=True, inline="always")
-def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, search_id):  # pragma: no cover - compiled
-    """:func:`_passable`, with walkability from :func:`_walkable_once`."""
-    return _walkable_once(free, hits, i, j, walk_stamp, walk, search_id) or (near_start and _free_not_wall(free, hits, i, j))
+def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """Walkable (:func:`_walkable_once`), or (near the start: within two steps of it, or ``squeeze``)
+    at least free and not a wall."""
+    return _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id) or (near_start and _free_not_wall(free, hits, i, j))
 
 
 # the 8 neighbours of a cell, in the order the searches try them
@@ -470,30 +519,30 @@ _NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1,
 
 
 @njit(cache=True, inline="always")
-def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):  # pragma: no cover - compiled
+def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
     """Whether a search may step from (ci, cj) by (di, dj): onto a passable cell
     (:func:`_passable_once`), and diagonally only between two passable cells (no corner cutting)."""
-    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_stamp, walk, search_id):
+    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_stamp, walk, walk_id):
         return False
     return (
         di == 0
         or dj == 0
         or (
-            _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, search_id)
-            and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, search_id)
+            _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, walk_id)
+            and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, walk_id)
         )
     )
 
 
 @njit(cache=True)
-def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk):  # pragma: no cover - compiled
+def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
     does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
     that is not a wall. Returns the flat index of the cell found (its path back to the start
     through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
-    reached (``queue[:reached]``, in the order reached). ``walk_stamp`` and ``walk`` are scratch:
-    each cell's walkability, worked out once per search (a cell is checked from up to 8 sides)."""
+    reached (``queue[:reached]``, in the order reached). ``walk_stamp``, ``walk`` and ``walk_id``:
+    each cell's walkability, worked out once per state of the grids (:func:`_walkable_once`)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1, 0
@@ -514,12 +563,12 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
                 if cur == target:
                     found = cur
                     break
-            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, search_id):
+            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id):
                 found = cur
                 break
         for di, dj in _NEIGHBOURS:
             nxt = (ci + di) * n + cj + dj
-            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):
+            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
@@ -530,7 +579,7 @@ def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, 
 
 @njit(cache=True)
 def _search_disk(
-    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_stamp, walk
+    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_stamp, walk, walk_id
 ):  # pragma: no cover - compiled
     """A shortest path (in steps, over the same cells and moves as :func:`_search`) from (i0, j0)
     to the nearest walkable cell that ``known`` does not hold and whose centre lies within ``dr``
@@ -543,7 +592,7 @@ def _search_disk(
     the cell found (its path back through ``parent``), or -1 if there is none (or the robot is
     there). ``stamp`` marks the cells reached, ``closed`` those done, ``steps`` their path lengths;
     ``heap`` holds the queue's priorities (:func:`_priority`) and ``heap_cells`` their cells;
-    ``walk_stamp`` / ``walk`` as in :func:`_search`."""
+    ``walk_stamp`` / ``walk`` / ``walk_id`` as in :func:`_search`."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1
@@ -563,7 +612,7 @@ def _search_disk(
             cur != start
             and not known[ci, cj]
             and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
-            and _walkable_once(free, hits, ci, cj, walk_stamp, walk, search_id)
+            and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id)
         ):
             return cur
         near = squeeze or cur == start or parent[cur] == start
@@ -572,7 +621,7 @@ def _search_disk(
             nxt = (ci + di) * n + cj + dj
             if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
                 continue
-            if not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, search_id):
+            if not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
@@ -638,31 +687,47 @@ def _heap_pop(heap, cells, size):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze):  # pragma: no cover - compiled
+def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
     """The index of the farthest cell along ``path`` (at most ``most`` cells on, at least 1) that a
     straight line from ``(gx, gy)`` (grid units) reaches over passable cells only: the planner heads
-    straight for it, not along the search's 8-connected zig-zags."""
+    straight for it, not along the search's 8-connected zig-zags. ``walk_stamp`` / ``walk`` /
+    ``walk_id`` as in :func:`_search`."""
     n = free.shape[0]
     best = 1
     for k in range(2, min(most, path.size - 1) + 1):
-        tx, ty = path[k] // n + 0.5, path[k] % n + 0.5
-        samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
-        clear = True
-        for s in range(1, samples + 1):
-            x = gx + (tx - gx) * s / samples
-            y = gy + (ty - gy) * s / samples
-            near = squeeze or (x - gx) ** 2 + (y - gy) ** 2 <= 4.0  # a robot by a wall leaves it over free cells
-            if not _passable(free, hits, int(x), int(y), near):
-                clear = False
-                break
-        if not clear:
+        if not _line_clear(free, hits, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_stamp, walk, walk_id):
             break
         best = k
     return best
 
 
 @njit(cache=True)
-def _waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch):  # pragma: no cover - compiled
+def _lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """:func:`_line_clear` for the line from ``(gx, gy)`` to ``(tx, ty)`` shifted by ``k`` times
+    ``(nx, ny)``, for every ``k`` from ``-margin`` to ``margin``."""
+    for k in range(-margin, margin + 1):
+        if not _line_clear(free, hits, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_stamp, walk, walk_id):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """Whether the straight line from ``(gx, gy)`` to ``(tx, ty)`` (grid units), sampled every third
+    of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
+    ``squeeze``, free cells that are not walls will do)."""
+    samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
+    for s in range(1, samples + 1):
+        x = gx + (tx - gx) * s / samples
+        y = gy + (ty - gy) * s / samples
+        near = squeeze or (x - gx) ** 2 + (y - gy) ** 2 <= 4.0  # a robot by a wall leaves it over free cells
+        if not _passable_once(free, hits, int(x), int(y), near, walk_stamp, walk, walk_id):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
     """The cell the planner heads for (:func:`_farthest_in_sight`) along the path from the search's
     start to ``found`` (written into ``scratch``)."""
     length = 0
@@ -674,7 +739,7 @@ def _waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch):  # pra
     for k in range(length, -1, -1):
         scratch[k] = cur
         cur = parent[cur]
-    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze)]
+    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze, walk_stamp, walk, walk_id)]
 
 
 @njit(cache=True)

@@ -419,6 +419,24 @@ def test_a_search_round_the_remembered_place_that_finds_nothing_anchors_afresh(s
     assert not agent.pi.anchored and not agent.homing_done
 
 
+def test_homing_heads_straight_at_the_place_in_sight_and_leaves_the_segment_length_to_exploration(small_maze):
+    """With walkable ground all the way to within ``search_radius`` of the remembered place, homing
+    heads straight at it. It draws no segment length: if exploration takes over, it goes on the
+    same way for a length drawn then, without a turn."""
+    _, agent = found_the_goal(small_maze, home_radius=10.0)
+    place = agent.reward.remembered_place()
+    agent.pi.estimate = place + np.array([-2.0, -1.5])
+    assert agent.map.in_sight(agent.pi.estimate, place + np.array([-2.0, -1.5]) * (agent.config.search_radius / 2.5))
+    state = agent.rng.bit_generator.state
+    heading = agent._home_heading()
+    here = agent.pi.estimate
+    assert heading == math.atan2(place[1] - here[1], place[0] - here[0])
+    assert agent.rng.bit_generator.state == state and agent.segment_left == -1
+    assert agent._random_heading() == heading  # exploration goes on the same way ...
+    c = agent.config
+    assert c.segment_min - 1 <= agent.segment_left <= c.segment_max - 1  # ... for a length drawn now
+
+
 def test_homing_to_a_place_by_a_wall_paths_beside_it_and_a_bump_there_starts_the_search(small_maze):
     """A remembered place by a wall lies off the map's walkable ground: homing plans to walkable
     ground beside it (not straight at it through whatever is in the way), never pushes when no

@@ -100,6 +100,7 @@ def test_the_planner_heads_straight_for_a_point_in_sight_not_along_the_search_gr
     assert abs(heading - math.atan2(cy - start[1], cx - start[0])) < math.radians(5), math.degrees(heading)
     wall_row = m.index(0.75, 0.0)[0]
     m.hits[wall_row, m.index(0.0, -3.0)[1] : m.index(0.0, 0.5)[1]] = 5  # a wall along x = 0.75 up to y = 0.5
+    m.grids_replaced()  # (written by hand, so announced)
     heading = m.heading_to(start, m.flat_index(*target))
     assert heading is not None and 0.75 * math.tan(heading) > 0.5, math.degrees(heading)  # passes the wall's end
 
@@ -279,6 +280,55 @@ def test_homing_reuses_its_search_only_from_the_same_cell_on_the_same_grids():
     assert int(m._search_id[0]) > searches + 1  # searched again after the bump
     m.observe(np.array([-2.0, 0.0]), 0.0, ring_scan(radius=1.0), max_range=10.0, unknown_only=True)
     assert m.revision == revision + 1  # (a scan of ground the map knows changes nothing)
+
+
+def test_a_line_is_in_sight_over_walkable_ground_only_and_the_walkability_follows_the_grids():
+    """``in_sight``: the straight line homing takes when it can. Across open ground it is in sight;
+    with a wall across it, written by hand and announced, it is not, though the open ground was
+    worked out walkable before (walkability is remembered per state of the grids); nor is a line
+    with less than a cell of walkable ground beside it."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0})
+    m.free[:] = 1
+    start, end = np.array([-2.0, 0.3]), np.array([2.0, -0.4])
+    assert m.in_sight(start, end) and m.in_sight(end, start)
+    m.hits[m.index(0.0, 0.0)[0], m.index(0.0, -1.0)[1] : m.index(0.0, 1.0)[1]] = 5  # a wall 2 m long across it
+    m.grids_replaced()
+    assert not m.in_sight(start, end) and not m.in_sight(end, start)
+    assert m.in_sight(np.array([-2.0, 3.0]), np.array([2.0, 3.0]))  # (well beyond the wall's end)
+    by_the_end = np.array([-2.0, 1.3]), np.array([2.0, 1.3])  # 0.3 m past the wall's end: on walkable cells ...
+    assert m.in_sight(*by_the_end, margin=0) and not m.in_sight(*by_the_end)  # ... but not with a cell to spare
+
+
+def test_the_fit_around_a_place_is_the_fit_at_it_and_at_the_offsets_from_it():
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 8.0})
+    m.observe(np.zeros(2), 0.2, ring_scan(radius=4.0), max_range=10.0)
+    rng = np.random.default_rng(2)
+    here, offsets, ranges = rng.uniform(-1.0, 1.0, 2), rng.uniform(-3.0, 3.0, (9, 2)), rng.uniform(0.5, 6.0, 720)
+    around = m.scan_agreement(offsets, 0.4, ranges, 10.0, around=here)
+    np.testing.assert_array_equal(around, m.scan_agreement(np.vstack((here, here + offsets)), 0.4, ranges, 10.0))
+    assert around.shape == (10,) and np.count_nonzero(around) > 5
+
+
+def test_grid_indices_by_multiplication_equal_those_by_division():
+    """A power-of-two cell (the default 0.25 m) lets the ray marches multiply by 1 / cell instead of
+    dividing: the scan's fit from many places is the same either way. Any other cell divides."""
+    from hippo_agent.explore import _scan_agreement
+
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 8.0})
+    for x in (-1.0, 0.0, 1.0):
+        m.observe(np.array([x, 0.5 * x]), 0.2, ring_scan(radius=4.0), max_range=10.0)  # a round room of 4 m
+    assert m._inv_cell == 1.0 / m.cell == 4.0
+    assert ExplorationMap(**{**AgentConfig().map_kwargs(), "cell": 0.3})._inv_cell == 0.0
+    rng = np.random.default_rng(0)
+    points = rng.uniform(-6.0, 6.0, (200, 2))
+    ranges = rng.uniform(0.2, 9.0, 720).astype(np.float32)
+    fits = []
+    for inv_cell in (m._inv_cell, 0.0):
+        out = np.empty(len(points))
+        _scan_agreement(m.free, m.hits, 0.0, 0.0, False, points, 0.3, ranges, 20, 10.0, m.extent, m.cell, inv_cell, m.hit_range, out)
+        fits.append(out)
+    np.testing.assert_array_equal(fits[0], fits[1])
+    assert np.count_nonzero(fits[0]) > 100  # (most places judged)
 
 
 def test_a_local_search_marks_a_narrower_path_and_starts_afresh_round_the_place():

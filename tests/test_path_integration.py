@@ -241,6 +241,29 @@ def test_a_place_cell_is_silenced_beyond_its_field_radius():
     assert farther[0] > -gain  # cell 0 is 1 m away: not silenced
 
 
+@pytest.mark.parametrize("sigma, threshold", [(0.7, 0.7), (0.3, 0.05), (1.5, 0.9), (0.7, 1e-6)])
+def test_the_path_integration_drive_skips_only_exponentials_too_small_to_change_it(sigma, threshold):
+    """``pi_input`` does not compute the Gaussian of a cell so far away that subtracting the threshold
+    from it would leave the threshold exactly: every cell's drive, at every distance up to and past
+    that bound, equals the formula computed in full."""
+    from hippo_agent.cells import PlaceCells
+
+    n = 4000
+    place = PlaceCells(n, 4, 8, np.random.default_rng(0), **AgentConfig().place_kwargs())
+    two_var = 2.0 * sigma * sigma
+    bound = math.sqrt(two_var * (54.0 * math.log(2.0) - math.log(threshold) + 1.0))
+    distance = np.random.default_rng(1).uniform(0.0, 2.0 * bound, n)
+    distance[:10] = bound * (1.0 + np.array([-1e-3, -1e-9, 0.0, 1e-9, 1e-3, -0.05, -0.2, -0.5, 0.05, 0.5]))
+    place.centres[:] = np.column_stack((distance, np.zeros(n))) + 0.3
+    place.centre_mass[:] = 1.0
+    gain = 3.0
+    drive = place.pi_input(np.array([0.3, 0.3]), gain, sigma, threshold)
+    dx, dy = place.centres[:, 0] - 0.3, place.centres[:, 1] - 0.3
+    full = [gain * (math.exp(-(x * x + y * y) / two_var) - threshold) for x, y in zip(dx.tolist(), dy.tolist())]
+    np.testing.assert_array_equal(drive, full)
+    assert np.count_nonzero(distance > bound) > n // 3  # (a third of the cells skipped)
+
+
 def test_the_trace_holds_nothing_from_before_the_robot_knows_where_it_is():
     """A run's code before anchoring comes from the boundary code alone and may be a look-alike
     place's: linking it (eq. 7) to the anchored code would join two distant places."""

@@ -196,15 +196,17 @@ def advance(s, v, Wb, b_inhibition, Gamma_pp, extra, has_extra, k, psi, s_out, v
 
 
 @njit(cache=True, error_model="numpy")
-def centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, out):  # pragma: no cover - compiled
+def centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, out):  # pragma: no cover - compiled
     """``gain * (exp(-|p - c_i|^2 / two_var) - threshold)``, less ``far_inhibition`` beyond
-    ``sqrt(far_sq)``, for the cells with a centre, 0 for the others."""
+    ``sqrt(far_sq)``, for the cells with a centre, 0 for the others. Beyond ``sqrt(negligible_sq)``
+    the exponential is taken as 0 (the caller's bound: where that gives the same result)."""
     for i in range(centre_mass.size):
         if centre_mass[i] > 0.0:
             dx = centres[i, 0] - position[0]
             dy = centres[i, 1] - position[1]
             d_sq = dx * dx + dy * dy
-            out[i] = gain * (math.exp(-d_sq / two_var) - threshold)
+            gauss = 0.0 if d_sq > negligible_sq else math.exp(-d_sq / two_var)
+            out[i] = gain * (gauss - threshold)
             if d_sq > far_sq:
                 out[i] -= far_inhibition
         else:
@@ -212,8 +214,9 @@ def centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_s
 
 
 @njit(cache=True, error_model="numpy")
-def learn_centres(v, centres, centre_mass, position, max_mass):  # pragma: no cover - compiled
-    """Each active cell's centre moves toward ``position`` by ``v_i / mass_i`` (mass capped at ``max_mass``)."""
+def learn_centres(v, centres, centre_mass, position, max_mass, with_spread, v_sense, spread, spread_mass):  # pragma: no cover - compiled
+    """Each active cell's centre moves toward ``position`` by ``v_i / mass_i`` (mass capped at
+    ``max_mass``); then, ``with_spread``, :func:`learn_spread` at ``position``."""
     for i in range(v.size):
         if v[i] > 0.0:
             mass = centre_mass[i] + v[i]
@@ -222,6 +225,8 @@ def learn_centres(v, centres, centre_mass, position, max_mass):  # pragma: no co
             centres[i, 0] += rate * (position[0] - centres[i, 0])
             centres[i, 1] += rate * (position[1] - centres[i, 1])
             centre_mass[i] = mass
+    if with_spread:
+        learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, max_mass)
 
 
 @njit(cache=True, error_model="numpy")

@@ -142,7 +142,7 @@ class PathIntegrator:
     def move(self, step: np.ndarray) -> None:
         """Path integration: shift every sample by the allocentric ``step`` (m), plus noise."""
         self.last_step = np.asarray(step, dtype=np.float64)
-        spread = self.motion_noise * math.hypot(self.last_step[0], self.last_step[1]) + self.min_motion_noise
+        spread = self.motion_noise * math.hypot(*self.last_step.tolist()) + self.min_motion_noise
         if spread > 0:
             self.rng.standard_normal(out=self._noise)
         _kernels.shift(self.particles, self.last_step, spread, self._noise)
@@ -220,7 +220,8 @@ class PathIntegrator:
 
     def lagged_estimate(self) -> np.ndarray:
         """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
-        return self.estimate - self.lag * self.last_step
+        (x, y), (dx, dy) = self.estimate.tolist(), self.last_step.tolist()  # (as floats: faster than on two-element arrays)
+        return np.array((x - self.lag * dx, y - self.lag * dy))
 
     def _redraw(self, rates: np.ndarray, centres: np.ndarray, n: int, proposed: np.ndarray | None = None) -> None:
         """Replace the ``n`` lightest samples by draws around the voted centres and, with

@@ -199,23 +199,33 @@ class PlaceCells:
         with a centre ``c_i``, less ``far_inhibition`` farther than ``far_radius`` from it; 0 for the
         others (they stay free to take new places)."""
         out = np.empty(self.n)
+        two_var = 2.0 * sigma * sigma
+        # beyond this squared distance the Gaussian is below threshold * 2^-54 (with a margin of a factor e
+        # for exp's rounding), less than half a float's spacing at the threshold: subtracting it leaves
+        # -threshold exactly, so it is not computed
+        negligible_sq = two_var * (54.0 * math.log(2.0) - math.log(threshold) + 1.0) if threshold > 0.0 else math.inf
         _kernels.centre_drive(
             self.centres,
             self.centre_mass,
             np.asarray(position, dtype=np.float64),
-            2.0 * sigma * sigma,
+            two_var,
             gain,
             threshold,
             far_radius * far_radius,
             far_inhibition,
+            negligible_sq,
             out,
         )
         return out
 
-    def learn_centres(self, position: np.ndarray, max_mass: float) -> None:
+    def learn_centres(self, position: np.ndarray, max_mass: float, spread: bool = False) -> None:
         """Each active cell's centre moves toward ``position`` by its rate over its accumulated
-        rate (a running mean, capped at ``max_mass`` so it can still follow slowly)."""
-        _kernels.learn_centres(self.v, self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), max_mass)
+        rate (a running mean, capped at ``max_mass`` so it can still follow slowly). With
+        ``spread``, :meth:`learn_spread` follows, in the same compiled call."""
+        _kernels.learn_centres(
+            self.v, self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), max_mass,
+            spread, self.v_sense, self.spread, self.spread_mass,
+        )  # fmt: skip
 
     def learn_spread(self, position: np.ndarray, max_mass: float) -> None:
         """Each cell with a centre that the boundary code alone fires here learns how far from its
@@ -229,10 +239,10 @@ class PlaceCells:
         """(rates, centres) of the cells active in the BVC-only response whose centre has
         accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
         the edge of what has been mapped, where cells without a centre yet are active), and their
-        spreads (:meth:`learn_spread`)."""
+        spreads (:meth:`learn_spread`). The arrays are views of scratch that the next call overwrites."""
         rates, where, spreads = self._vote
         n, share = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass, self.centres, self.spread, rates, where, spreads)
-        return rates[:n].copy(), where[:n].copy(), share, spreads[:n].copy()
+        return rates[:n], where[:n], share, spreads[:n]
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:
