@@ -535,7 +535,9 @@ def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):  # p
 
 
 @njit(cache=True)
-def _search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def _search(
+    free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk, walk_id
+):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
     does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell

@@ -196,7 +196,9 @@ def advance(s, v, Wb, b_inhibition, Gamma_pp, extra, has_extra, k, psi, s_out, v
 
 
 @njit(cache=True, error_model="numpy")
-def centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, out):  # pragma: no cover - compiled
+def centre_drive(
+    centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, out
+):  # pragma: no cover - compiled
     """``gain * (exp(-|p - c_i|^2 / two_var) - threshold)``, less ``far_inhibition`` beyond
     ``sqrt(far_sq)``, for the cells with a centre, 0 for the others. Beyond ``sqrt(negligible_sq)``
     the exponential is taken as 0 (the caller's bound: where that gives the same result)."""
