@@ -350,6 +350,8 @@ class HippocampalAgent:
             self.place.trace[:] = 0.0
         else:
             self.place.update_trace()
+        # evidence of a look-alike place: a bump where the map shows no wall (a wall it holds explains the bump)
+        surprising_bump = collision and (self.map is None or not self.map.wall_near(self.pi.estimate, heading, c.map_bump_distance))
         if self.map is not None and self.pi.anchored:
             if dry or self.total_steps % c.run_map_every == 0:
                 mark = c.home_search_mark if self.homing_done else None
@@ -362,13 +364,13 @@ class HippocampalAgent:
             if collision and (dry or c.map_in_runs):
                 self.map.mark_bump(self.pi.estimate, heading, c.map_bump_distance)
         if self.map is not None and not dry and self.pi.anchored and c.lost_bump_rate > 0:
-            self.bump_rate += (float(collision) - self.bump_rate) / c.bump_rate_steps
+            self.bump_rate += (float(surprising_bump) - self.bump_rate) / c.bump_rate_steps
             if self.bump_rate > c.lost_bump_rate:
                 self._relocalise()  # walls where the map shows free ground: a look-alike place
         if collision:  # a bump: a random turn and a new segment (and a short escape if exploiting)
             self.episode_stats["bumps"] += 1
             if self.last_decision == "home":
-                self.homing_bumps += 1
+                self.homing_bumps += surprising_bump
                 if self.homing_bumps >= c.home_bump_limit:
                     self._memory_failed()  # the map's free way was not free: a look-alike place
                 elif not self.homing_done and self._home_distance() <= c.search_radius:

@@ -147,6 +147,14 @@ class ExplorationMap:
             self.hits[i, j] = min(int(self.hits[i, j]) + int(self.free[i, j]) + 1, 65535)
             self.revision += 1
 
+    def wall_near(self, position: np.ndarray, heading: float, distance: float) -> bool:
+        """Whether the map holds a wall within one cell of the point ``distance`` ahead of
+        ``position`` along ``heading``: where a bump there was to be expected."""
+        i, j = self.index(position[0] + distance * math.cos(heading), position[1] + distance * math.sin(heading))
+        rows, cols = slice(max(i - 1, 0), max(i + 2, 0)), slice(max(j - 1, 0), max(j + 2, 0))
+        hits, free = self.hits[rows, cols], self.free[rows, cols]
+        return bool(np.any((hits > 0) & (hits >= free)))
+
     def grids_replaced(self) -> None:
         """Call after writing ``free`` or ``hits`` other than through :meth:`observe` and
         :meth:`mark_bump` (as loading a saved agent does): searches made on the old grids, and the

@@ -468,25 +468,31 @@ def test_homing_to_a_place_by_a_wall_paths_beside_it_and_a_bump_there_starts_the
     assert agent.homing_done  # the robot's centre cannot come within home_arrived of the place: the bump ended homing
 
 
-def test_bumping_into_walls_while_homing_counts_as_a_failed_search(small_maze):
+@pytest.mark.parametrize("facing_a_known_wall", [False, True])
+def test_bumping_into_walls_while_homing_counts_as_a_failed_search(small_maze, facing_a_known_wall):
     """The map showed the way free, yet the robot kept bumping: its estimate is taken to be at a
-    look-alike place, as when the search round the place finds nothing."""
+    look-alike place, as when the search round the place finds nothing. Bumps into a wall the map
+    holds do not count."""
     env, agent = found_the_goal(small_maze, home_bump_limit=3)
     obs, info = env.reset(options={"start": [-1.3, 1.3], "heading": 0.0})
     agent.reset(obs, info)
+    if facing_a_known_wall:
+        agent.map.hits[agent.map.index(*(agent.pi.estimate + [agent.config.map_bump_distance, 0.0]))] = 1000
+        agent.map.grids_replaced()
     agent.last_decision = "home"
     for bumps in range(1, 4):
         agent.observe(0, obs, 0.0, False, False, {"collision": True})
         agent.last_decision = "home"
-        assert agent.memory_failures == (bumps == 3)
-    assert agent.homing_bumps == 0 and not agent.pi.anchored
+        assert agent.memory_failures == (bumps == 3 and not facing_a_known_wall)
+    assert agent.homing_bumps == 0 and agent.memory_failures == (not facing_a_known_wall)
 
 
-@pytest.mark.parametrize("lost_bump_rate", [0.0, 0.15])
-def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate):
+@pytest.mark.parametrize(("lost_bump_rate", "facing_a_known_wall"), [(0.0, False), (0.15, False), (0.15, True)])
+def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate, facing_a_known_wall):
     """Bumps where the map shows free ground mean a look-alike place: once the running mean of
     bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
-    estimate is dropped; with 0, never."""
+    estimate is dropped; with 0, never. Bumps into a wall the map holds are explained by it and
+    do not count."""
     env = make_env(small_maze, seed=1)
     config = AgentConfig(dry_run_steps=1500, lost_bump_rate=lost_bump_rate)
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
@@ -499,12 +505,19 @@ def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bum
         obs, _, _, _, info = env.step(action)
         agent.observe(action, obs, 0.0, False, False, info)
     assert agent.pi.anchored
+    heading = agent._unpack(obs)[2]
+    if facing_a_known_wall:  # the map holds a wall where the robot bumps
+        ahead = agent.pi.estimate + agent.config.map_bump_distance * np.array([math.cos(heading), math.sin(heading)])
+        agent.map.hits[agent.map.index(*ahead)] = 1000
+        agent.map.grids_replaced()
+    assert agent.map.wall_near(agent.pi.estimate, heading, agent.config.map_bump_distance) == facing_a_known_wall
     still = {**obs, "odometry": np.zeros(2, dtype=np.float32)}  # pushing at a wall: the scan stays, the wheels slip
     anchored = []
     for _ in range(9):
         agent.observe(0, still, 0.0, False, False, {"collision": True})
         anchored.append(agent.pi.anchored)
-    assert anchored == [True] * 9 if lost_bump_rate == 0 else anchored == [True] * 8 + [False]
+    expected_drop = lost_bump_rate > 0 and not facing_a_known_wall
+    assert anchored == [True] * 8 + [False] if expected_drop else anchored == [True] * 9
 
 
 def test_after_home_attempts_failed_searches_the_agent_searches_the_map_and_the_new_find_replaces_the_memory(small_maze):

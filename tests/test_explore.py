@@ -34,6 +34,18 @@ def test_scan_marks_free_ground_and_walls():
     assert 8.0 < m.explored_area() < math.pi * 2.0**2
 
 
+def test_a_bump_is_expected_within_a_cell_of_a_wall_the_map_holds():
+    """``wall_near``: the ring's wall 0.3 m ahead of a robot at its foot, in any direction; none
+    ahead in the middle of the room, nor beyond the map's edge (no error there)."""
+    m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
+    m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
+    for angle in np.linspace(-math.pi, math.pi, 16, endpoint=False):
+        at_the_foot = 1.8 * np.array([math.cos(angle), math.sin(angle)])
+        assert m.wall_near(at_the_foot, angle, 0.3), angle
+        assert not m.wall_near(np.zeros(2), angle, 0.3), angle
+    assert not m.wall_near(np.array([-4.9, -4.9]), -2.4, 0.3)
+
+
 def test_planner_goes_to_unvisited_ground_until_none_is_left():
     m = ExplorationMap(**{**AgentConfig().map_kwargs(), "extent": 5.0, "visit_radius": 0.5, "search_radius": 0.3})
     m.observe(np.zeros(2), 0.0, ring_scan(), max_range=10.0)
