@@ -176,8 +176,9 @@ class AgentConfig:
     (the run's search marks ``search_radius``). The remembered place is where the robot entered
     the 0.3 m goal disk, at its edge; marked 0.6 m wide, a search round it passed the disk by."""
     home_bump_limit: int = 20
-    """A robot that bumps into walls this many times while homing in one attempt (its map showed
-    the way free) takes its estimate to be at a look-alike place, as when a search finds nothing."""
+    """A robot that bumps into walls this many times while homing in one attempt where its map
+    shows no wall (within a cell of the bump, ``ExplorationMap.wall_near``) takes its estimate to
+    be at a look-alike place, as when a search finds nothing."""
     home_attempts: int = 3
     """After this many such searches without the reward in one run, the agent stops following its
     memory of the goal (home and reward map) for the rest of the run and searches the map; a
@@ -295,9 +296,10 @@ class AgentConfig:
     falls below this, the estimate is taken to be at a look-alike place and anchored afresh."""
     lost_bump_rate: float = 0.15
     """Once anchored in a run, when the running mean of bumps per step (over about
-    ``bump_rate_steps``) exceeds this, the estimate is taken to be at a look-alike place (the map
-    shows free ground where there are walls) and anchored afresh (0 = off). A well-placed robot
-    bumps about 0.01 times a step; one following its map in the wrong room of a rooms maze, 0.3."""
+    ``bump_rate_steps``) exceeds this, the estimate is taken to be at a look-alike place and
+    anchored afresh (0 = off). Only bumps where the map shows no wall count (a wall it holds
+    explains the bump). A well-placed robot bumps about 0.01 times a step; one following its map
+    in the wrong room of a rooms maze, 0.3."""
     bump_rate_steps: int = 50
     """The window (steps) of that running mean."""
     learn_agreement: float = 0.6
