@@ -645,9 +645,11 @@ class HippocampalAgent:
     def _directed_heading(self) -> float | None:
         """Where the map says to go next, or ``None`` for a random step.
 
-        Dry run: the sweep heads for the nearest ground not yet visited; once none is reachable
-        (for ``sweep_patience`` steps in a row) transits to random visited places follow, for
-        ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
+        Dry run: the sweep heads for the nearest ground not yet visited, over walkable cells or,
+        when none is left that way, through any free cell that is not a wall (a doorway too narrow
+        for walkable cells would otherwise end the sweep with the rooms beyond it unvisited); once
+        none is reachable (for ``sweep_patience`` steps in a row) transits to random visited places
+        follow, for ``transit_factor`` times the sweep's steps; then the dry run is done. A run: the nearest
         ground not searched in this run, over walkable cells or, when none is left that way, through
         any free cell that is not a wall; once everything is searched, the search starts afresh (the
         marking radius is wider than the goal disk, so one pass can miss it).
@@ -664,6 +666,8 @@ class HippocampalAgent:
             return heading
         if self.dry_stage == "sweep":
             heading = self.map.heading_to_unvisited(here)
+            if heading is None:
+                heading = self.map.heading_to_unvisited(here, squeeze=True)
             self.sweep_steps += 1
             if heading is not None:
                 self.plan_failures = 0

@@ -443,3 +443,23 @@ def test_the_search_into_a_disk_finds_paths_as_short_as_the_breadth_first_search
                 steps = np.abs(np.diff(np.column_stack(np.divmod(fast, m.n)), axis=0)).max(axis=1)
                 assert np.all(steps == 1)
     assert compared > 30  # (most maps have a path)
+
+
+def test_the_dry_run_sweep_squeezes_through_a_doorway_the_map_holds_too_narrow():
+    """The map of the search test above, in a dry run: with no walkable path to the unvisited side
+    of a one-cell doorway, the sweep plans through it instead of counting toward its end (as a
+    run's search does), so the ground beyond it is mapped."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig(n_place=50), seed=0)
+    m = agent.map
+    m.free[:] = 1
+    wall_row, door = m.index(0.0, 0.0)
+    m.hits[wall_row, :] = 5  # a wall along x = 0 ...
+    m.hits[wall_row, door] = 0  # ... with a one-cell gap at y = 0
+    m.visited[: wall_row + 1, :] = True  # this side visited
+    m.grids_replaced()
+    agent.phase, agent.dry_stage, agent.pi.estimate = "dry", "sweep", np.array([-2.0, 0.0])
+    assert m.heading_to_unvisited(agent.pi.estimate) is None
+    heading = agent._directed_heading()
+    assert heading is not None and abs(heading) < math.pi / 4, heading  # toward the gap, at +x
+    assert agent.dry_stage == "sweep" and agent.plan_failures == 0
