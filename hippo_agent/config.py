@@ -342,7 +342,7 @@ class AgentConfig:
     """Goal-free steps in ``dry_run``. With ``exploration="random"``, exactly this many (paper: a
     dry run; model-figures: about 25,000 updates; feasibility: 5,000 works almost as well). With
     ``"directed"``, at most this many: the dry run ends once the sweep and its transits are done:
-    medians of 5,569-6,965 steps in 20 m mazes, and 13,010-14,314 in 30 m mazes, which need this
+    medians of 5,568-6,965 steps in 20 m mazes, and 13,010-14,314 in 30 m mazes, which need this
     raised (docs/benchmarks.md, "Beyond 20 m")."""
     learn_pb_in_trials: bool = True
     """Keep the Oja rule (eq. 5) on during DMTP runs (paper: place fields develop during
