@@ -135,9 +135,9 @@ def make_config(model: str, n_place: int, dry_run_steps: int) -> AgentConfig:
     if model not in ("default", "paper"):
         raise ValueError(f"model {model!r} is unknown; allowed: default, paper")
     if model == "paper":
-        return AgentConfig.paper(n_place=n_place, dry_run_steps=dry_run_steps)
+        return AgentConfig.paper().with_values({"model.n_place": n_place, "model.dry_run_steps": dry_run_steps})
     # the cost of n_place cells: no recruitment beyond them
-    return AgentConfig(n_place=n_place, dry_run_steps=dry_run_steps, place_cells_per_m2=0.0)
+    return AgentConfig().with_values({"model.n_place": n_place, "model.dry_run_steps": dry_run_steps, "exploration.place_cells_per_m2": 0.0})
 
 
 def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:

@@ -2,7 +2,7 @@
 
 For each maze and seed, the default agent's dry run (``AgentConfig()``: a sweep to unvisited
 ground, transits, rest; it ends by itself) and the previous default's random walk
-(``AgentConfig(exploration="random", dry_run_steps=N)``) are run, and this harness records the
+(:func:`random_walk_config`: path integration, no map) are run, and this harness records the
 robot's TRUE position each step from outside (the agent never sees it). Coverage after t steps is
 the share of the free 0.25 m grid cells (centre at least the robot's radius from every wall) that
 the robot's centre has come within 0.5 m of.
@@ -28,7 +28,7 @@ import numpy as np
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import command_line, machine_info, output_path, parse_dataclass_args
 from benchmarks.maze_suite import maze_source
-from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent import AgentConfig, HippocampalAgent, ReflexConfig
 from hippo_env.dmtp import _CountingEnv
 from hippo_env.files import write_json
 from hippo_env.maze import MazeSpec
@@ -52,6 +52,13 @@ class CoverageArgs:
     """output folder (relative to the repository root unless absolute)"""
 
 
+def random_walk_config(steps: int) -> AgentConfig:
+    """The default model before directed exploration: path integration, no map, a random walk of ``steps`` steps."""
+    return AgentConfig(map=None, localisation=None, exploration=None, homing=None, reflexes=ReflexConfig(escape_after="exploiting")).with_values(
+        {"model.dry_run_steps": steps, "path_integration.min_anchor_steps": 0}
+    )
+
+
 def dry_run(maze: str, seed: int, config: AgentConfig) -> tuple[np.ndarray, list[str], MazeSpec]:
     """The agent's dry run in ``maze``: the true positions, the dry-run stage at each step, the maze."""
     env = gym.make("HippoMaze-v0", maze=maze_source(maze), odometry=True)
@@ -64,7 +71,7 @@ def dry_run(maze: str, seed: int, config: AgentConfig) -> tuple[np.ndarray, list
         def step(self, action: Any):
             out = super().step(action)
             positions.append(np.asarray(out[4]["position"], dtype=float))
-            stages.append(agent.dry_stage if config.exploration == "directed" else "random")
+            stages.append(agent.exploration.stage if agent.exploration is not None else "random")
             return out
 
     agent.dry_run(Watched(env, allow_goal=False))
@@ -114,7 +121,7 @@ def main(argv: list[str] | None = None) -> None:
         curves[maze] = {"directed": [], "random": []}
         for seed in args.seeds:
             directed, stages, spec = dry_run(maze, seed, AgentConfig())
-            walk, _, _ = dry_run(maze, seed, AgentConfig(exploration="random", dry_run_steps=args.random_steps, pi_min_anchor_steps=0))
+            walk, _, _ = dry_run(maze, seed, random_walk_config(args.random_steps))
             d_curve, r_curve = coverage_curve(spec, directed), coverage_curve(spec, walk)
             curves[maze]["directed"].append(d_curve)
             curves[maze]["random"].append(r_curve)

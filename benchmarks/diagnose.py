@@ -29,7 +29,7 @@ the agent never does) and measures, per maze:
   run's end, median over trials, and a figure of the curves beside the JSON (``.coverage.png``).
 - ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
   estimate is replaced by the true position at every step (exact self-localisation), with the
-  doubt about look-alike places off (``doubt_look_alikes = 0``), which would re-anchor an
+  doubt about look-alike places off (``localisation.look_alikes = 0``), which would re-anchor an
   estimate that cannot be wrong: in maze4 (2 trials, seed 0) it fired 19,386 times, a look-alike
   place fitting the agent's own map better than the true position.
 
@@ -51,7 +51,7 @@ import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from benchmarks.coverage import coverage_curve, plot_curves, steps_to
 from hippo_agent import AgentConfig, HippocampalAgent
-from hippo_agent.cells import PathIntegrator
+from hippo_agent.faculties.path_integration import PathIntegrator
 from hippo_env.dmtp import run_dmtp
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
@@ -80,7 +80,7 @@ class DiagnoseArgs:
     dry_run_steps: int = -1
     """dry-run steps (-1: the config's default)"""
     config: str = ""
-    """more AgentConfig fields as JSON, e.g. '{"pi_gain": 2.0}'"""
+    """more AgentConfig fields as JSON, by dotted name, e.g. '{"path_integration.gain": 2.0}'"""
     out: str = ""
     """output JSON ('' = benchmarks/results/diagnose/<maze>[-paper|-oracle].json)"""
 
@@ -144,9 +144,7 @@ class Watcher:
         self.origin: np.ndarray | None = None
         self.oracle = oracle
         if oracle:
-            pi = OracleIntegrator.__new__(OracleIntegrator)
-            pi.__dict__.update(agent.pi.__dict__)
-            agent.pi = pi
+            agent.pi.__class__ = OracleIntegrator  # (in place: the faculties hold the same integrator)
         self.run = -1
         self.in_dry_run = False
         self.dry_pi_errors: list[float] = []
@@ -247,7 +245,7 @@ class Watcher:
 
     def _after(self, info: dict[str, Any]) -> None:
         pi = self.agent.pi
-        if not self.agent.config.path_integration or not pi.anchored:
+        if pi is None or not pi.anchored:
             return
         truth = np.asarray(info["position"], float) - self.origin
         error = float(np.linalg.norm(pi.estimate - truth))
@@ -273,11 +271,11 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
     """Run the trials and measure; returns the record written to JSON and each trial's dry-run
     coverage curve."""
     spec = MazeSpec.load(args.maze)
-    overrides = {} if args.dry_run_steps < 0 else {"dry_run_steps": args.dry_run_steps}
+    overrides = {} if args.dry_run_steps < 0 else {"model.dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
-    config = AgentConfig.paper(**overrides) if args.paper else AgentConfig(**overrides)
     if args.oracle:
-        config = config.replace(doubt_look_alikes=0)
+        overrides["localisation.look_alikes"] = 0
+    config = (AgentConfig.paper() if args.paper else AgentConfig()).with_values(overrides)
     places = sample_places(spec)
     place_distance = path_distances(spec, places, places)
     watchers: list[Watcher] = []
@@ -295,7 +293,7 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
             to_goal = path_distances(spec, goal[None], places)[0]
             values = agent.reward_map(env, places)
             ok = np.isfinite(values)
-            covered = ok & (values > config.xi_here)
+            covered = ok & (values > config.model.xi_here)
             record = {
                 "trial": trial,
                 "coverage": float(covered.sum() / max(ok.sum(), 1)),
@@ -307,7 +305,7 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
             rates = agent.place_field_map(env, places)
             per_trial[-1]["twins"] = twin_share(np.nan_to_num(rates), place_distance)
             per_trial[-1]["across_walls"] = across_walls(np.nan_to_num(rates), places, place_distance)
-            if config.path_integration:
+            if config.path_integration is not None:
                 bvc = np.array([agent.place_rates_at(env.unwrapped.observation_at(p)) for p in places])
                 per_trial[-1]["twins_bvc"] = twin_share(bvc, place_distance)
 
@@ -318,7 +316,7 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
         trials=args.trials,
         runs=args_runs,
         seed=args.seed,
-        env_kwargs={"odometry": True} if config.path_integration else None,
+        env_kwargs={"odometry": True} if config.path_integration is not None else None,
         progress=True,
         on_run_end=on_run_end,
     )
@@ -392,7 +390,7 @@ def replay_reach(agent: HippocampalAgent, env: Any, spec: MazeSpec, goal: np.nda
     out = []
     M = place.replay_weights()
     v_bar = v.astype(np.float64)
-    for _ in range(agent.config.replay_iterations):
+    for _ in range(agent.config.model.replay_iterations):
         reached = np.flatnonzero(v_bar > 0)
         d = dist_of[reached]
         d = d[np.isfinite(d)]
@@ -422,7 +420,7 @@ def main(argv: list[str] | None = None) -> None:
     out.write_text(json.dumps(record, indent=1) + "\n")
     if coverage:
         plot_curves(
-            {spec_name(args.maze): {"directed" if record["config"]["exploration"] == "directed" else "random": coverage}},
+            {spec_name(args.maze): {"directed" if record["config"]["exploration"] is not None else "random": coverage}},
             out.with_suffix(".coverage.png"),
         )
     shown = {k: v for k, v in record.items() if k not in ("per_trial", "config", "machine")}

@@ -65,7 +65,7 @@ class SuiteArgs:
     dry_run_steps: int = -1
     """dry-run steps (-1: the config's default)"""
     config: str = ""
-    """more AgentConfig fields as JSON, e.g. '{"pi_motion_noise": 0.05}'"""
+    """more AgentConfig fields as JSON, by dotted name, e.g. '{"path_integration.motion_noise": 0.05}'"""
     env: str = ""
     """more environment arguments as JSON, e.g. '{"odometry_noise": 0.05, "heading_noise": 0.035}'"""
     out: str = ""
@@ -92,10 +92,10 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
     from hippo_agent import AgentConfig, HippocampalAgent
     from hippo_env.dmtp import run_dmtp
 
-    overrides = {} if dry_run_steps < 0 else {"dry_run_steps": dry_run_steps}
+    overrides = {} if dry_run_steps < 0 else {"model.dry_run_steps": dry_run_steps}
     overrides.update(json.loads(config_json) if config_json else {})
-    config = AgentConfig.paper(**overrides) if model == "paper" else AgentConfig(**overrides)
-    env_kwargs = {"odometry": True} if config.path_integration else {}
+    config = (AgentConfig.paper() if model == "paper" else AgentConfig()).with_values(overrides)
+    env_kwargs = {"odometry": True} if config.path_integration is not None else {}
     env_kwargs.update(json.loads(env_json) if env_json else {})
     began = time.process_time()
     place_cells: list[int] = []  # per trial, after the dry run (recruitment grows them with the arena)

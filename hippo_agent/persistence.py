@@ -1,13 +1,17 @@
-"""Saving and loading a :class:`~hippo_agent.HippocampalAgent`: one npz file with every array, the
-generator's state and a JSON metadata entry (format tag and version), so a loaded agent behaves
-exactly as the saved one would have."""
+"""Saving and loading a :class:`~hippo_agent.HippocampalAgent`: one npz file.
+
+The file holds a JSON metadata entry (format tag and version, the config, the spaces, the
+generator's state, the agent's own state) and every part's state: the paper's model and each
+faculty give theirs (``state()``: a JSON-able dict and named arrays) and take it back
+(``load_state()``), so a part's state lives with its code. Arrays are stored as
+``"<part>.<name>"``. A loaded agent behaves exactly as the saved one would have.
+"""
 
 from __future__ import annotations
 
 import json
 import os
 import zipfile
-from collections.abc import Callable
 from typing import Any
 
 import gymnasium as gym
@@ -16,131 +20,62 @@ import numpy as np
 from hippo_agent.config import AgentConfig
 from hippo_env.env import ODOMETRY_BOUND
 
-__all__ = ["FORMAT_TAG", "FORMAT_VERSION", "load", "save"]
+__all__ = ["FORMAT_TAG", "FORMAT_VERSION", "PARTS", "load", "save"]
 
 FORMAT_TAG = "hippomaze.HippocampalAgent"
-FORMAT_VERSION = 4  # raised whenever what a file holds changes; files of another version are refused
+FORMAT_VERSION = 5
+"""Raised whenever what a file holds changes; files of another version are refused, naming it.
+Version 4 (hippomaze 0.1) kept the agent as one flat object; version 5 saves each part's own state."""
 
-# Every saved array: its name in the file -> (the agent's part holding it, the attribute).
-ARRAY_HOME: dict[str, tuple[str, str]] = {
-    "W_pb": ("place", "W_pb"),
-    "W_rp": ("reward", "W_rp"),
-    "W_eff": ("reward", "W_eff"),
-    "s": ("place", "s"),
-    "v": ("place", "v"),
-    "trace": ("place", "trace"),
-    "hd_trace": ("place", "hd_trace"),
-    "hd_rates": ("hd", "rates"),
-    "bvc_rates": ("bvc", "rates"),
-    "last_values": ("agent", "last_values"),
-    "s_sense": ("place", "s_sense"),
-    "v_sense": ("place", "v_sense"),
-    "centres": ("place", "centres"),
-    "centre_mass": ("place", "centre_mass"),
-    "spread": ("place", "spread"),
-    "spread_mass": ("place", "spread_mass"),
-    "pi_particles": ("pi", "particles"),
-    "pi_weights": ("pi", "weights"),
-    "pi_estimate": ("pi", "estimate"),
-    "pi_last_step": ("pi", "last_step"),
+PARTS = ("model", "pi", "map", "localisation", "exploration", "homing", "reflexes")
+"""The agent's attributes that save their own state (``None`` ones, faculties that are off, are skipped)."""
+
+# the agent's own state: attribute -> how load reads it back
+_AGENT_STATE = {
+    "phase": str,
+    "trial": int,
+    "started": bool,
+    "last_decision": str,
+    "total_steps": int,
+    "episode_stats": lambda counts: {str(k): int(v) for k, v in counts.items()},
 }
-ARRAYS = (*ARRAY_HOME, "W_pp_slots", "W_pp_cells")
-# Arrays added within format version 4: a file without them loads as if no reward had been found
-# anywhere yet (name in the file -> the reward cells' attribute; one row per goal).
-REWARD_PLACE_ARRAYS = {"found_sum": "found_sum", "found_count": "found_count"}
-# The exploration map's grids (directed exploration only): name in the file -> the map's attribute.
-MAP_ARRAYS = {"map_free": "free", "map_hits": "hits", "map_visited": "visited", "map_searched": "searched"}
-# The behaviour state in the file's "state" entry: (attribute, how load reads it back), in the file's order.
-STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
-    ("phase", str),
-    ("trial", int),
-    ("goal_rewarded", bool),
-    ("started", bool),
-    ("intended_heading", float),
-    ("segment_left", int),
-    ("escape_left", int),
-    ("heading", float),
-    ("last_decision", str),
-    ("episode_stats", lambda counts: {str(k): int(v) for k, v in counts.items()}),
-    ("total_steps", int),
-)
-# Behaviour state added within format version 4, with the value a file without it loads.
-LATER_STATE: tuple[tuple[str, Callable[[Any], Any], Any], ...] = (
-    ("homing_done", bool, False),
-    ("memory_failures", int, 0),
-    ("homing_bumps", int, 0),
-    ("bump_rate", float, 0.0),
-    ("fit", float, 1.0),
-    ("own_fit", float, 1.0),
-    ("look_alikes", lambda offsets: np.asarray(offsets, dtype=np.float64).reshape(-1, 2), []),
-    ("look_alike_fit", lambda fits: np.asarray(fits, dtype=np.float64).reshape(-1), []),
-)
-# The path integrator's, under "state" -> "pi".
-PI_STATE: tuple[tuple[str, Callable[[Any], Any]], ...] = (
-    ("frame_started", bool),
-    ("anchored", bool),
-    ("fresh", bool),
-    ("confidence", float),
-    ("lost_steps", int),
-)
-
-
-def _plain(value: Any) -> Any:
-    """``value`` as JSON can hold it (an array as nested lists)."""
-    return value.tolist() if isinstance(value, np.ndarray) else value
-
-
-def _array_slots(agent: Any) -> list[tuple[str, Any, str]]:
-    """(name in the file, object holding it, attribute) for every saved array."""
-    return [(name, agent if owner == "agent" else getattr(agent, owner), attr) for name, (owner, attr) in ARRAY_HOME.items()]
 
 
 def save(agent: Any, path: str | os.PathLike) -> None:
-    """Write the whole agent (weights, state, generator state, config) to ``path`` (npz).
-
-    The file holds the arrays plus a JSON metadata entry with a format tag and version;
-    :meth:`load` restores an agent whose future behaviour is identical.
-    """
+    """Write the whole agent to ``path`` (npz); :func:`load` restores it."""
+    parts, arrays = {}, {}
+    for name in PARTS:
+        part = getattr(agent, name)
+        if part is not None:
+            parts[name], part_arrays = part.state()
+            arrays.update({f"{name}.{key}": value for key, value in part_arrays.items()})
+    if agent.senses is not None:  # the last scan: the clearance reflex reads it when the agent next acts
+        arrays["senses.ranges"], arrays["senses.heading_vec"] = agent.senses.ranges, agent.senses.heading_vec
     meta = {
         "format": FORMAT_TAG,
         "version": FORMAT_VERSION,
         "config": agent.config.to_dict(),
         "seed": agent.seed,
         "observation": {"n_rays": agent.n_rays, "max_range": agent.max_range, "odometry": agent.has_odometry},
-        "place_cells": agent.place.n,
         "action": {"kind": agent.action_kind, "n": agent.n_actions},
-        "rng_state": agent.rng.bit_generator.state,
-        "rng_kind": type(agent.rng.bit_generator).__name__,
-        "state": {
-            **{name: getattr(agent, name) for name, _ in STATE},
-            **{name: _plain(getattr(agent, name)) for name, _, _ in LATER_STATE},
-            "pi": {**{name: getattr(agent.pi, name) for name, _ in PI_STATE}, "ruled_out": agent.pi.ruled_out.tolist()},
-        },
+        "rng": {"kind": type(agent.rng.bit_generator).__name__, "state": agent.rng.bit_generator.state},
+        "agent": {name: getattr(agent, name) for name in _AGENT_STATE},
+        "parts": parts,
     }
-    arrays = {name: getattr(target, attr) for name, target, attr in _array_slots(agent)}
-    arrays["W_pp_slots"] = agent.place.W_pp_used  # the compact W_pp (see PlaceCells)
-    arrays["W_pp_cells"] = agent.place.slot_cells
-    arrays.update({name: getattr(agent.reward, attr) for name, attr in REWARD_PLACE_ARRAYS.items()})
-    if agent.map is not None:
-        arrays.update({name: getattr(agent.map, attr) for name, attr in MAP_ARRAYS.items()})
     with open(path, "wb") as f:
         np.savez_compressed(f, __meta__=np.array(json.dumps(meta)), **arrays)
 
 
 def load(cls: type, path: str | os.PathLike) -> Any:
-    """Read an agent written by :meth:`save`; a corrupt, truncated or foreign file raises
-    ``ValueError``."""
+    """Read an agent written by :func:`save`; a corrupt, truncated or foreign file, or one of
+    another format version, raises ``ValueError`` saying what is wrong."""
     what = f"'{os.fspath(path)}' is not a readable hippomaze agent file"
     try:
         with np.load(path, allow_pickle=False) as data:
             if "__meta__" not in data.files:
                 raise ValueError(f"{what}: it has no '__meta__' entry (not written by HippocampalAgent.save)")
             meta = json.loads(str(data["__meta__"]))
-            missing = [k for k in ARRAYS if k not in data.files]
-            if missing:
-                raise ValueError(f"{what}: arrays {missing} are missing")
-            arrays = {k: data[k] for k in ARRAYS}
-            arrays.update({k: data[k] for k in (*MAP_ARRAYS, *REWARD_PLACE_ARRAYS) if k in data.files})
+            arrays = {key: data[key] for key in data.files if key != "__meta__"}
     except ValueError as exc:
         if str(exc).startswith(what):
             raise
@@ -150,73 +85,65 @@ def load(cls: type, path: str | os.PathLike) -> Any:
     if not isinstance(meta, dict) or meta.get("format") != FORMAT_TAG:
         raise ValueError(f"{what}: format tag is {meta.get('format') if isinstance(meta, dict) else meta!r}, expected {FORMAT_TAG!r}")
     if meta.get("version") != FORMAT_VERSION:
-        raise ValueError(f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION}")
+        raise ValueError(
+            f"{what}: format version {meta.get('version')!r} is unsupported; this hippo_agent reads version {FORMAT_VERSION} "
+            "(version 4 files, from hippomaze 0.1, can be read by that release only)"
+        )
     try:
-        config = AgentConfig.from_dict(meta["config"])
-        n_rays, max_range = int(meta["observation"]["n_rays"]), float(meta["observation"]["max_range"])
-        spaces: dict[str, gym.spaces.Space] = {
-            "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
-            "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
-        }
-        if meta["observation"]["odometry"]:
-            spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
-        obs_space = gym.spaces.Dict(spaces)
-        act_space: gym.spaces.Space
-        if meta["action"]["kind"] == "discrete":
-            act_space = gym.spaces.Discrete(int(meta["action"]["n"]))
-        else:
-            act_space = gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)
-        agent = cls(obs_space, act_space, config, seed=meta["seed"])
-        recruited = int(meta["place_cells"]) - config.n_place
-        if recruited < 0 or recruited > max(config.max_place_cells - config.n_place, 0):
-            raise ValueError(
-                f"place_cells={meta['place_cells']!r} does not fit n_place={config.n_place}, max_place_cells={config.max_place_cells}"
-            )
-        if recruited:
-            agent.grow_place_cells(recruited)  # (the generator's state is restored below)
-        for name, target, attr in _array_slots(agent):
-            ref, arr = getattr(target, attr), arrays[name]
-            ok = (arr.ndim == 2 and arr.shape[1] == agent.place.n) if name == "W_rp" else arr.shape == ref.shape
-            if not ok or not np.all(np.isfinite(arr)):
-                raise ValueError(f"array {name!r} has shape {arr.shape} or non-finite values")
-            setattr(target, attr, arr.astype(ref.dtype))
-        goals = agent.reward.W_rp.shape[0]
-        for name, attr in REWARD_PLACE_ARRAYS.items():
-            ref = np.zeros((goals, *getattr(agent.reward, attr).shape[1:]))
-            arr = arrays.get(name, ref)
-            if arr.shape != ref.shape or not np.all(np.isfinite(arr)):
-                raise ValueError(f"array {name!r} has shape {arr.shape} (expected {ref.shape}) or non-finite values")
-            setattr(agent.reward, attr, arr.astype(np.float64))
-        if not np.all(np.isfinite(arrays["W_pp_slots"])):
-            raise ValueError("array 'W_pp_slots' has non-finite values")
-        agent.place.load_W_pp(arrays["W_pp_cells"], arrays["W_pp_slots"])
-        if agent.map is not None:
-            for name, attr in MAP_ARRAYS.items():
-                ref = getattr(agent.map, attr)
-                if name not in arrays or arrays[name].shape != ref.shape:
-                    raise ValueError(f"the exploration map's array {name!r} is missing or not of shape {ref.shape}")
-                setattr(agent.map, attr, arrays[name].astype(ref.dtype))
-            agent.map.grids_replaced()
-        if meta["rng_kind"] != type(agent.rng.bit_generator).__name__:
-            raise ValueError(f"generator {meta['rng_kind']!r} is not {type(agent.rng.bit_generator).__name__}")
-        agent.rng.bit_generator.state = meta["rng_state"]
-        st = meta["state"]
-        if st["phase"] not in ("dry", "trial"):
-            raise ValueError(f"phase {st['phase']!r} is not 'dry' or 'trial'")
-        for name, read in STATE:
-            setattr(agent, name, read(st[name]))
-        for name, read, default in LATER_STATE:
-            setattr(agent, name, read(st.get(name, default)))
-        for name, read in PI_STATE:
-            setattr(agent.pi, name, read(st["pi"][name]))
-        if len(agent.look_alikes) != len(agent.look_alike_fit):
-            raise ValueError(f"{len(agent.look_alikes)} look-alike places but {len(agent.look_alike_fit)} fits to them")
-        ruled_out = np.asarray(st["pi"].get("ruled_out", []), dtype=np.float64).reshape(-1, 2)  # (added within version 4)
-        if not np.all(np.isfinite(ruled_out)):
-            raise ValueError("the path integrator's 'ruled_out' places are not finite")
-        agent.pi.ruled_out = ruled_out
+        agent = cls(
+            _observation_space(meta["observation"]), _action_space(meta["action"]), AgentConfig.from_dict(meta["config"]), seed=meta["seed"]
+        )
+        _restore(agent, meta, arrays)
     except ValueError as exc:
         raise ValueError(f"{what}: {exc}") from exc
     except (KeyError, TypeError, AttributeError) as exc:
         raise ValueError(f"{what}: metadata is incomplete or malformed ({type(exc).__name__}: {exc})") from exc
     return agent
+
+
+def _restore(agent: Any, meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+    """Every part's state, the agent's own and the generator's, from the file."""
+    parts = meta["parts"]
+    place_cells = int(parts["model"]["place_cells"])
+    recruited = place_cells - agent.config.model.n_place
+    most = agent.config.exploration.max_place_cells if agent.config.exploration is not None else agent.config.model.n_place
+    if recruited < 0 or place_cells > max(most, agent.config.model.n_place):
+        raise ValueError(f"place_cells={place_cells} does not fit model.n_place={agent.config.model.n_place} and max_place_cells={most}")
+    if recruited:
+        agent.grow_place_cells(recruited)  # (the generator's state is restored below)
+    for name in PARTS:
+        part = getattr(agent, name)
+        if part is None:
+            continue
+        if name not in parts:
+            raise ValueError(f"the state of {name!r} is missing")
+        prefix = f"{name}."
+        part.load_state(parts[name], {key[len(prefix) :]: value for key, value in arrays.items() if key.startswith(prefix)})
+    rng = meta["rng"]
+    if rng["kind"] != type(agent.rng.bit_generator).__name__:
+        raise ValueError(f"generator {rng['kind']!r} is not {type(agent.rng.bit_generator).__name__}")
+    agent.rng.bit_generator.state = rng["state"]
+    state = meta["agent"]
+    if state["phase"] not in ("dry", "trial"):
+        raise ValueError(f"phase {state['phase']!r} is not 'dry' or 'trial'")
+    for name, read in _AGENT_STATE.items():
+        setattr(agent, name, read(state[name]))
+    if "senses.ranges" in arrays:
+        agent.restore_senses(arrays["senses.ranges"], arrays["senses.heading_vec"])
+
+
+def _observation_space(observation: dict[str, Any]) -> gym.spaces.Dict:
+    n_rays, max_range = int(observation["n_rays"]), float(observation["max_range"])
+    spaces: dict[str, gym.spaces.Space] = {
+        "ranges": gym.spaces.Box(0.0, max_range, (n_rays,), np.float32),
+        "heading": gym.spaces.Box(-1.0, 1.0, (2,), np.float32),
+    }
+    if observation["odometry"]:
+        spaces["odometry"] = gym.spaces.Box(-ODOMETRY_BOUND, ODOMETRY_BOUND, (2,), np.float32)
+    return gym.spaces.Dict(spaces)
+
+
+def _action_space(action: dict[str, Any]) -> gym.spaces.Space:
+    if action["kind"] == "discrete":
+        return gym.spaces.Discrete(int(action["n"]))
+    return gym.spaces.Box(-np.pi, np.pi, (1,), np.float32)

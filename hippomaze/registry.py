@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import importlib
 import inspect
-from dataclasses import fields, replace
 from importlib.metadata import entry_points
 from importlib.util import find_spec
 from typing import Any
@@ -39,7 +38,6 @@ from typing import Any
 import gymnasium as gym
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
-from hippo_env.files import unknown_fields
 
 #: The entry-point group third-party agents register under.
 ENTRY_POINT_GROUP = "hippomaze.agents"
@@ -59,18 +57,14 @@ def _hippo(paper: bool = False, **overrides: Any) -> AgentFactory:
         from hippo_agent import AgentConfig
     except ImportError as err:
         raise ImportError(f"agent 'hippo' needs the hippo_agent package, which did not import: {err}") from err
-    unknown = unknown_fields(AgentConfig, overrides)
-    if unknown:
-        allowed = sorted(f.name for f in fields(AgentConfig))
-        raise ValueError(f"AgentConfig has no parameter(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
-    config = replace(AgentConfig.paper() if paper else AgentConfig(), **overrides)
+    config = (AgentConfig.paper() if paper else AgentConfig()).with_values(overrides)  # dotted names: "model.n_place"
 
     def make(observation_space: gym.spaces.Space, action_space: gym.spaces.Space, *, seed: int) -> Any:
         from hippo_agent import HippocampalAgent
 
         return HippocampalAgent(observation_space, action_space, config=config, seed=seed)
 
-    make.env_kwargs = {"odometry": True} if config.path_integration else {}  # type: ignore[attr-defined]
+    make.env_kwargs = {"odometry": True} if config.path_integration is not None else {}  # type: ignore[attr-defined]
     return make
 
 
@@ -181,7 +175,8 @@ def agent_factory(name: str, **overrides: Any) -> AgentFactory:
             ``seed`` if its constructor takes none), or ``module:make_agent`` for a factory
             function, called the same way. A class's or factory's ``env_kwargs`` attribute
             becomes the returned factory's.
-        **overrides: Parameters to change: fields of ``hippo_agent.AgentConfig`` for ``hippo``, of
+        **overrides: Parameters to change: for ``hippo``, fields of ``hippo_agent.AgentConfig`` by dotted name
+            (``**{"model.n_place": 500, "homing": None}``, see ``AgentConfig.with_values``); of
             :mod:`hippomaze.baselines.hyperparams` ``DQNParams`` / ``PPOParams`` / ``DynaQParams`` for the others.
 
     Raises:

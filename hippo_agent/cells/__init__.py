@@ -1,9 +1,8 @@
-"""The model's four cell types, one module each (paper section "Model Description")."""
+"""The paper's four cell types, one module each (paper section "Model Description")."""
 
 from hippo_agent.cells.boundary_vector import BoundaryVectorCells
 from hippo_agent.cells.head_direction import HeadDirectionCells
-from hippo_agent.cells.path_integration import PathIntegrator
 from hippo_agent.cells.place import PlaceCells
 from hippo_agent.cells.reward import RewardCells, replay
 
-__all__ = ["BoundaryVectorCells", "HeadDirectionCells", "PathIntegrator", "PlaceCells", "RewardCells", "replay"]
+__all__ = ["BoundaryVectorCells", "HeadDirectionCells", "PlaceCells", "RewardCells", "replay"]

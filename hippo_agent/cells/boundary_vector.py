@@ -33,19 +33,18 @@ class BoundaryVectorCells:
     by shifting ray indices by the heading, rounded to the nearest ray (at most half a ray,
     0.25 deg at 720 rays).
 
-    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.bvc_kwargs`):
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.ModelConfig.bvc_kwargs`):
         n_rays: rays per scan.
         max_range: the rangefinder's maximum range (m).
         n_directions: preferred directions.
         n_distances: preferred distances.
         max_distance: largest preferred distance (m); ``None`` = ``max_range``.
-        sigma_r: radial width (m), or the width at distance 0 when ``distance_scaled``.
-        distance_scaled: Barry et al.'s ``sigma_r(d) = sigma_r * (1 + d / beta)``.
-        beta: Barry et al.'s beta (m).
+        sigma_r: radial width (m), the same at every distance.
         sigma_theta: angular width (radians).
         angular_cutoff: rays beyond this many ``sigma_theta`` are left out.
         peak_rate: the largest possible response.
-        ignore_max_range: rays at ``max_range`` (no hit) are not boundaries.
+
+    Rays at ``max_range`` have hit nothing: they are not boundaries and drive no cell.
     """
 
     def __init__(
@@ -57,12 +56,9 @@ class BoundaryVectorCells:
         n_distances: int,
         max_distance: float | None,
         sigma_r: float,
-        distance_scaled: bool,
-        beta: float,
         sigma_theta: float,
         angular_cutoff: float,
         peak_rate: float,
-        ignore_max_range: bool,
     ) -> None:
         if n_rays < 1:
             raise ValueError(f"n_rays={n_rays} is invalid; allowed: an integer >= 1")
@@ -73,15 +69,11 @@ class BoundaryVectorCells:
         self.n_directions = int(n_directions)
         self.n_distances = int(n_distances)
         self.n = self.n_directions * self.n_distances
-        self.ignore_max_range = bool(ignore_max_range)
         max_distance = self.max_range if max_distance is None else float(max_distance)
 
         self.directions = 2.0 * np.pi * np.arange(self.n_directions) / self.n_directions
         self.distances = np.linspace(0.0, max_distance, self.n_distances)
-        if distance_scaled:
-            self.sigma_r = sigma_r * (1.0 + self.distances / beta)
-        else:
-            self.sigma_r = np.full(self.n_distances, float(sigma_r))
+        self.sigma_r = np.full(self.n_distances, float(sigma_r))
         self._inv_two_var_r = 1.0 / (2.0 * self.sigma_r**2)
         self._norm_r = 1.0 / np.sqrt(2.0 * np.pi * self.sigma_r**2)
 
@@ -134,7 +126,7 @@ class BoundaryVectorCells:
             self.heading_shift(heading),
             self._ang_w,
             self.max_range,
-            self.ignore_max_range,
+            True,  # rays that hit nothing are not boundaries
             self.distances,
             self._inv_two_var_r,
             w,

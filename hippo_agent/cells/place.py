@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-
 import numpy as np
 
 from hippo_agent.cells import _kernels
@@ -42,7 +39,11 @@ class PlaceCells:
     used by replay, ``max_k W^pp_{kij} = max_k |W^pp_{kij}|``, is therefore symmetric, and replay
     spreads both ways along a path. This is the paper's model as written; we keep it.
 
-    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.AgentConfig.place_kwargs`):
+    Besides the rates, the cells keep the response to their BVC input alone (``s_sense``,
+    ``v_sense``): the same as the rates unless a faculty adds a drive of its own (path
+    integration, :meth:`step_sense` and :meth:`step_driven`).
+
+    Args (the keyword ones come from the agent's config, :meth:`hippo_agent.ModelConfig.place_kwargs`):
         n: number of place cells.
         n_bvc: number of BVC inputs.
         n_hd: number of head-direction cells (``W_pp`` slices).
@@ -91,18 +92,14 @@ class PlaceCells:
         self.v = np.zeros(self.n)
         self.trace = np.zeros(self.n)  # Upsilon^p
         self.hd_trace = np.zeros(self.n_hd)  # Upsilon^h
-        # path integration (improved model only): the BVC-only response and each cell's centre
+        # the response to the BVC input alone (what the boundary code says, without a faculty's drive)
         self.s_sense = np.zeros(self.n)
         self.v_sense = np.zeros(self.n)
-        self.centres = np.zeros((self.n, 2))
-        self.centre_mass = np.zeros(self.n)  # 0: no centre yet
-        self.spread = np.zeros(self.n)  # m^2: how far from its centre the boundary code alone fires the cell
-        self.spread_mass = np.zeros(self.n)
-        self._vote = (np.empty(self.n), np.empty((self.n, 2)), np.empty(self.n))  # scratch for sensory_vote
+        self._drive: tuple[np.ndarray, float] | None = None  # this step's W_pb b and sum(b), from step_sense
 
     def grow(self, extra: int, rng: np.random.Generator) -> None:
         """Recruit ``extra`` new cells: binary ``W_pb`` rows as at the start (eq. 5), everything
-        else zero (no centre, no ``W_pp`` slot), at rest."""
+        else zero (no ``W_pp`` slot), at rest."""
         new_rows = (rng.random((extra, self.n_bvc)) < self.p_pb).astype(np.float32)
         self.W_bp = np.ascontiguousarray(np.concatenate([self.W_bp, new_rows.T], axis=1))
         self.n += int(extra)
@@ -111,9 +108,8 @@ class PlaceCells:
             return np.concatenate([a, np.full((extra, *a.shape[1:]), fill, dtype=a.dtype)])
 
         self.slot = longer(self.slot, -1)
-        for name in ("s", "v", "trace", "s_sense", "v_sense", "centres", "centre_mass", "spread", "spread_mass"):
+        for name in ("s", "v", "trace", "s_sense", "v_sense"):
             setattr(self, name, longer(getattr(self, name)))
-        self._vote = (np.empty(self.n), np.empty((self.n, 2)), np.empty(self.n))
 
     @property
     def W_pb(self) -> np.ndarray:
@@ -159,20 +155,27 @@ class PlaceCells:
             self.s, self.v = self._advance(self.s, self.v, Wb, b_sum)
         return self.v
 
-    def step_with_sense(self, b: np.ndarray, extra_for: Callable[[], np.ndarray | None], n_steps: int = 1) -> np.ndarray:
-        """Advance the BVC-only response (``s_sense``, ``v_sense``: what the boundary code alone
-        says) and then the rates with the extra drive ``extra_for()`` (path integration), called
-        after each BVC-only update so it can read ``v_sense``; ``None`` = no extra drive (the
-        rates then equal the BVC-only response)."""
+    def step_sense(self, b: np.ndarray) -> None:
+        """One update of the response to the BVC rates ``b`` alone (``s_sense``, ``v_sense``);
+        :meth:`step_driven` then updates the rates with the same ``b``."""
+        self._drive = self._bvc_drive(b)
+        self.s_sense, self.v_sense = self._advance(self.s_sense, self.v_sense, *self._drive)
+
+    def step_driven(self, extra: np.ndarray | None) -> None:
+        """One update of the rates with the BVC rates given to :meth:`step_sense` and the extra
+        drive ``extra``; ``None``: no extra drive, the rates are the BVC-only response."""
+        if extra is None:
+            self.s, self.v = self.s_sense.copy(), self.v_sense.copy()
+        else:
+            assert self._drive is not None, "step_sense comes first"
+            self.s, self.v = self._advance(self.s, self.v, *self._drive, extra)
+
+    def settle_sense(self, b: np.ndarray, n_steps: int) -> None:
+        """``n_steps`` updates of the BVC-only response with ``b``; the rates then equal it."""
         Wb, b_sum = self._bvc_drive(b)
         for _ in range(n_steps):
             self.s_sense, self.v_sense = self._advance(self.s_sense, self.v_sense, Wb, b_sum)
-            extra = extra_for()
-            if extra is None:
-                self.s, self.v = self.s_sense.copy(), self.v_sense.copy()
-            else:
-                self.s, self.v = self._advance(self.s, self.v, Wb, b_sum, extra)
-        return self.v
+        self.s, self.v = self.s_sense.copy(), self.v_sense.copy()
 
     def settle(self, b: np.ndarray, extra: np.ndarray | None, n_steps: int) -> np.ndarray:
         """Rates from rest after ``n_steps`` updates with ``b`` and the extra drive (the BVC-only
@@ -190,59 +193,6 @@ class PlaceCells:
         for _ in range(n_steps):
             s, v = self._advance(s, v, Wb, b_sum, extra)
         return v
-
-    # ------------------------------------------------------------------ path-integration centres
-    def pi_input(
-        self, position: np.ndarray, gain: float, sigma: float, threshold: float, far_radius: float = math.inf, far_inhibition: float = 0.0
-    ) -> np.ndarray:
-        """Path-integration drive: ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells
-        with a centre ``c_i``, less ``far_inhibition`` farther than ``far_radius`` from it; 0 for the
-        others (they stay free to take new places)."""
-        out = np.empty(self.n)
-        two_var = 2.0 * sigma * sigma
-        # beyond this squared distance the Gaussian is below threshold * 2^-54 (with a margin of a factor e
-        # for exp's rounding), less than half a float's spacing at the threshold: subtracting it leaves
-        # -threshold exactly, so it is not computed
-        negligible_sq = two_var * (54.0 * math.log(2.0) - math.log(threshold) + 1.0) if threshold > 0.0 else math.inf
-        _kernels.centre_drive(
-            self.centres,
-            self.centre_mass,
-            np.asarray(position, dtype=np.float64),
-            two_var,
-            gain,
-            threshold,
-            far_radius * far_radius,
-            far_inhibition,
-            negligible_sq,
-            out,
-        )
-        return out
-
-    def learn_centres(self, position: np.ndarray, max_mass: float, spread: bool = False) -> None:
-        """Each active cell's centre moves toward ``position`` by its rate over its accumulated
-        rate (a running mean, capped at ``max_mass`` so it can still follow slowly). With
-        ``spread``, :meth:`learn_spread` follows, in the same compiled call."""
-        _kernels.learn_centres(
-            self.v, self.centres, self.centre_mass, np.asarray(position, dtype=np.float64), max_mass,
-            spread, self.v_sense, self.spread, self.spread_mass,
-        )  # fmt: skip
-
-    def learn_spread(self, position: np.ndarray, max_mass: float) -> None:
-        """Each cell with a centre that the boundary code alone fires here learns how far from its
-        centre that happens: a running mean of the squared distance, weighted by the BVC-only rate.
-        A cell the boundary code also fires at a distant look-alike place gets a wide spread."""
-        _kernels.learn_spread(
-            self.v_sense, self.centres, self.centre_mass, self.spread, self.spread_mass, np.asarray(position, dtype=np.float64), max_mass
-        )
-
-    def sensory_vote(self, min_mass: float) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
-        """(rates, centres) of the cells active in the BVC-only response whose centre has
-        accumulated at least ``min_mass``, their share of all the BVC-only activity (low at
-        the edge of what has been mapped, where cells without a centre yet are active), and their
-        spreads (:meth:`learn_spread`). The arrays are views of scratch that the next call overwrites."""
-        rates, where, spreads = self._vote
-        n, share = _kernels.voting_cells(self.v_sense, self.centre_mass, min_mass, self.centres, self.spread, rates, where, spreads)
-        return rates[:n], where[:n], share, spreads[:n]
 
     # ------------------------------------------------------------------ learning
     def learn_pb(self, b: np.ndarray) -> None:

@@ -96,9 +96,6 @@ class RewardCells:
         self.n_place = int(n_place)
         self.W_rp = np.zeros((0, self.n_place))
         self.W_eff = np.zeros(self.n_place)
-        # per goal, the sum of the path-integration estimates at which the reward was found, and their count
-        self.found_sum = np.zeros((0, 2))
-        self.found_count = np.zeros(0)
 
     @property
     def n(self) -> int:
@@ -119,8 +116,6 @@ class RewardCells:
     def add_goal(self) -> int:
         """Add a reward cell for a new goal; return its index."""
         self.W_rp = np.vstack([self.W_rp, np.zeros((1, self.n_place))])
-        self.found_sum = np.vstack([self.found_sum, np.zeros((1, 2))])
-        self.found_count = np.append(self.found_count, 0.0)
         self.reset_effective()
         return self.current
 
@@ -143,26 +138,10 @@ class RewardCells:
         return True
 
     def forget_current(self) -> None:
-        """Forget the current goal's reward map and remembered place."""
+        """Forget the current goal's reward map."""
         if self.n:
             self.W_rp[-1] = 0.0
-            self.found_sum[-1] = 0.0
-            self.found_count[-1] = 0.0
             self.reset_effective()
-
-    def remember_place(self, where: np.ndarray) -> None:
-        """Remember that the current goal's reward was found at ``where`` (a path-integration
-        estimate); :meth:`remembered_place` is the mean of every such place."""
-        if self.n == 0:
-            self.add_goal()
-        self.found_sum[-1] += where
-        self.found_count[-1] += 1.0
-
-    def remembered_place(self) -> np.ndarray | None:
-        """Where the current goal's reward was found, on average; ``None`` before it was found."""
-        if self.n == 0 or self.found_count[-1] == 0:
-            return None
-        return self.found_sum[-1] / self.found_count[-1]
 
     def value(self, v: np.ndarray, W: np.ndarray | None = None) -> np.ndarray | float:
         """Reward-cell rate for place rates ``v`` (eq. 9): ``W v / sum v``; 0 where ``sum v = 0``.

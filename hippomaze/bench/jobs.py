@@ -290,7 +290,7 @@ def current_config(job: Job) -> dict[str, Any] | None:
         from hippo_agent import AgentConfig
 
         base = AgentConfig.paper() if job.agent == "hippo-paper" else AgentConfig()
-        return json.loads(json.dumps(dataclasses.replace(base, **overrides).to_dict()))
+        return json.loads(json.dumps(base.with_values(overrides).to_dict()))
     return None
 
 

@@ -76,7 +76,7 @@ class PaperArgs:
         if self.model not in ("paper", "default"):
             raise ValueError(f"--model {self.model!r} is unknown; allowed: paper, default")
         config = AgentConfig.paper() if self.model == "paper" else AgentConfig()
-        return config if self.dry_run_steps is None else config.replace(dry_run_steps=int(self.dry_run_steps))
+        return config if self.dry_run_steps is None else config.with_values({"model.dry_run_steps": int(self.dry_run_steps)})
 
     def command(self) -> str:
         """The command line that reproduces this run."""

@@ -77,7 +77,7 @@ def task_dmtp_trial(
                 values=values.astype(np.float32),
                 run1_path=path.astype(np.float32),
                 goal=[float(goal[0]), float(goal[1])],
-                stats=map_stats(maze, positions, values, goal, path, agent.config.xi),
+                stats=map_stats(maze, positions, values, goal, path, agent.config.model.xi),
             )
         )
 

@@ -1,0 +1,460 @@
+"""Compiled loops (numba) of the map and its planner (:mod:`hippo_agent.faculties.map`): ray
+marches, the fit of a scan to the map, and the searches. Grid cells are addressed ``(i, j)`` with
+``i`` along x; ``n`` is the grid's side."""
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "enter_scan",
+    "known_with_steps",
+    "lines_clear",
+    "mark_disk",
+    "path_to",
+    "scan_agreement",
+    "search",
+    "search_disk",
+    "walkable_points",
+    "waypoint",
+]
+
+
+@njit(cache=True, inline="always")
+def _grid_index(v, cell, inv_cell):  # pragma: no cover - compiled
+    """``floor(v / cell)``: by multiplying with ``inv_cell`` when that is exact (``inv_cell > 0``,
+    a power-of-two cell): a division is the slowest step of the ray marches' inner loops."""
+    return math.floor(v * inv_cell) if inv_cell > 0.0 else math.floor(v / cell)
+
+
+@njit(cache=True)
+def enter_scan(
+    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, unknown_only
+):  # pragma: no cover - compiled
+    """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
+    (with ``unknown_only``, only cells neither free nor hit so far). Returns how many counts changed."""
+    n = free.shape[0]
+    changed = 0
+    n_rays = ranges.size
+    step = cell * 0.5
+    for r in range(0, n_rays, stride):
+        angle = heading + 2.0 * math.pi * r / n_rays
+        c, s = math.cos(angle), math.sin(angle)
+        d = float(ranges[r])
+        reach = min(d - step, free_range)
+        t = 0.0
+        last_i, last_j = -1, -1
+        while t < reach:
+            i = _grid_index(x + t * c + extent, cell, inv_cell)
+            j = _grid_index(y + t * s + extent, cell, inv_cell)
+            if i < 0 or j < 0 or i >= n or j >= n:
+                break
+            if i != last_i or j != last_j:
+                if free[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
+                    free[i, j] += 1
+                    changed += 1
+                last_i, last_j = i, j
+            t += step
+        if d < hit_range and d < max_range * 0.999:
+            i = _grid_index(x + d * c + extent, cell, inv_cell)
+            j = _grid_index(y + d * s + extent, cell, inv_cell)
+            if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
+                hits[i, j] += 1
+                changed += 1
+    return changed
+
+
+@njit(cache=True)
+def scan_agreement(
+    free, hits, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range, out
+):  # pragma: no cover - compiled
+    """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
+    ``(ox, oy)`` itself ``with_origin``."""
+    n = free.shape[0]
+    n_rays = ranges.size
+    m = (n_rays + stride - 1) // stride
+    cos_, sin_, dist = np.empty(m), np.empty(m), np.empty(m)
+    for q in range(m):
+        angle = heading + 2.0 * math.pi * (q * stride) / n_rays
+        cos_[q], sin_[q], dist[q] = math.cos(angle), math.sin(angle), ranges[q * stride]
+    for p in range(out.size):
+        k = p - 1 if with_origin else p
+        x = (ox if k < 0 else ox + points[k, 0]) + extent
+        y = (oy if k < 0 else oy + points[k, 1]) + extent
+        total = 0.0
+        counted = 0
+        for q in range(m):
+            d = dist[q]
+            far = not (d < hit_range and d < max_range * 0.999)
+            c, s = cos_[q], sin_[q]
+            through = False  # the ray passed through a wall the map holds
+            t = 0.5
+            while t < d - 0.5:
+                a = _grid_index(x + t * c, cell, inv_cell)
+                b = _grid_index(y + t * s, cell, inv_cell)
+                if 0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b]:  # (a wall, written out: faster)
+                    through = True
+                    break
+                t += 0.5
+            if through:
+                counted += 1
+                total -= 1.0
+                continue
+            if far:  # a long ray's end is too far to place on the map; only its free stretch counts
+                continue
+            counted += 1
+            i = _grid_index(x + d * c, cell, inv_cell)
+            j = _grid_index(y + d * s, cell, inv_cell)
+            if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+                continue
+            wall = False
+            for a in range(i - 1, i + 2):
+                for b in range(j - 1, j + 2):
+                    if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
+                        wall = True
+            if wall:
+                total += 1.0
+            elif free[i, j] > 0:
+                total -= 1.0
+        out[p] = total / counted if counted else 0.0
+
+
+@njit(cache=True)
+def walkable_points(free, hits, stride, extent, cell, out):  # pragma: no cover - compiled
+    n = free.shape[0]
+    m = 0
+    for i in range(1, n - 1, stride):
+        for j in range(1, n - 1, stride):
+            if free[i, j] > 0 and _walkable(free, hits, i, j):
+                out[m, 0] = (i + 0.5) * cell - extent
+                out[m, 1] = (j + 0.5) * cell - extent
+                m += 1
+    return m
+
+
+@njit(cache=True)
+def mark_disk(grid, x, y, radius, extent, cell):  # pragma: no cover - compiled
+    n = grid.shape[0]
+    ci = (x + extent) / cell
+    cj = (y + extent) / cell
+    r = radius / cell
+    for i in range(max(0, int(ci - r) - 1), min(n, int(ci + r) + 2)):
+        for j in range(max(0, int(cj - r) - 1), min(n, int(cj + r) + 2)):
+            if (i + 0.5 - ci) ** 2 + (j + 0.5 - cj) ** 2 <= r * r:
+                grid[i, j] = True
+
+
+@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
+def _is_wall(free, hits, i, j):  # pragma: no cover - compiled
+    return hits[i, j] > 0 and hits[i, j] >= free[i, j]
+
+
+@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
+def _walkable(free, hits, i, j):  # pragma: no cover - compiled
+    """Known free, and no wall in the 3 x 3 block around it."""
+    n = free.shape[0]
+    if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+        return False
+    if free[i, j] == 0 or _is_wall(free, hits, i, j):
+        return False
+    for di in range(-1, 2):
+        for dj in range(-1, 2):
+            if _is_wall(free, hits, i + di, j + dj):
+                return False
+    return True
+
+
+@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
+def _free_not_wall(free, hits, i, j):  # pragma: no cover - compiled
+    n = free.shape[0]
+    return 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
+
+
+@njit(cache=True, inline="always")
+def _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """:func:`_walkable`, remembered in ``walk`` under ``walk_id`` (``walk_stamp``): one id per
+    state of the grids, so that searches on unchanged grids reuse what earlier ones worked out."""
+    n = free.shape[0]
+    if i < 0 or j < 0 or i >= n or j >= n:
+        return False
+    k = i * n + j
+    if walk_stamp[k] != walk_id:
+        walk_stamp[k] = walk_id
+        walk[k] = _walkable(free, hits, i, j)
+    return walk[k]
+
+
+@njit(cache=True, inline="always")
+def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """Walkable (:func:`_walkable_once`), or (near the start: within two steps of it, or ``squeeze``)
+    at least free and not a wall."""
+    return _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id) or (near_start and _free_not_wall(free, hits, i, j))
+
+
+# the 8 neighbours of a cell, in the order the searches try them
+_NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+
+
+@njit(cache=True, inline="always")
+def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """Whether a search may step from (ci, cj) by (di, dj): onto a passable cell
+    (:func:`_passable_once`), and diagonally only between two passable cells (no corner cutting)."""
+    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_stamp, walk, walk_id):
+        return False
+    return (
+        di == 0
+        or dj == 0
+        or (
+            _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, walk_id)
+            and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, walk_id)
+        )
+    )
+
+
+@njit(cache=True)
+def search(
+    free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk, walk_id
+):  # pragma: no cover - compiled
+    """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
+    ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
+    does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
+    that is not a wall. Returns the flat index of the cell found (its path back to the start
+    through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
+    reached (``queue[:reached]``, in the order reached). ``walk_stamp``, ``walk`` and ``walk_id``:
+    each cell's walkability, worked out once per state of the grids (:func:`_walkable_once`)."""
+    n = free.shape[0]
+    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
+        return -1, 0
+    start = i0 * n + j0
+    stamp[start] = search_id
+    parent[start] = -1
+    head, tail = 0, 1
+    queue[0] = start
+    found = -1
+    while head < tail:
+        cur = queue[head]
+        head += 1
+        ci, cj = cur // n, cur % n
+        # a robot beside a wall stands on cells that are not walkable: leave them by free ones
+        near = squeeze or (target != -2 and (cur == start or parent[cur] == start))
+        if cur != start:
+            if target >= 0:
+                if cur == target:
+                    found = cur
+                    break
+            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id):
+                found = cur
+                break
+        for di, dj in _NEIGHBOURS:
+            nxt = (ci + di) * n + cj + dj
+            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
+                continue
+            stamp[nxt] = search_id
+            parent[nxt] = cur
+            queue[tail] = nxt
+            tail += 1
+    return found, tail
+
+
+@njit(cache=True)
+def search_disk(
+    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_stamp, walk, walk_id
+):  # pragma: no cover - compiled
+    """A shortest path (in steps, over the same cells and moves as :func:`search`) from (i0, j0)
+    to the nearest walkable cell that ``known`` does not hold and whose centre lies within ``dr``
+    of ``(dx, dy)`` (grid units): an A* search, which heads for the disk instead of spreading in
+    every direction as the breadth-first search does. Its lower bound on the steps left from a
+    cell is the Chebyshev distance of its centre to the disk's centre less ``dr``, rounded up (a
+    step moves at most one cell along each axis). Of the open cells with the least bound, the one
+    farthest along is taken first, then the one nearest the disk's centre in a straight line (of
+    the many paths equally short in steps, one near the straight line). Returns the flat index of
+    the cell found (its path back through ``parent``), or -1 if there is none (or the robot is
+    there). ``stamp`` marks the cells reached, ``closed`` those done, ``steps`` their path lengths;
+    ``heap`` holds the queue's priorities (:func:`_priority`) and ``heap_cells`` their cells;
+    ``walk_stamp`` / ``walk`` / ``walk_id`` as in :func:`search`."""
+    n = free.shape[0]
+    if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
+        return -1
+    start = i0 * n + j0
+    stamp[start] = search_id
+    parent[start] = -1
+    steps[start] = 0
+    size = _heap_push(heap, heap_cells, 0, _priority(i0, j0, 0, dx, dy, dr), start)
+    while size > 0:
+        cur = heap_cells[0]
+        size = _heap_pop(heap, heap_cells, size)
+        if closed[cur] == search_id:
+            continue  # an older entry of a cell since reached by a shorter path
+        closed[cur] = search_id
+        ci, cj = cur // n, cur % n
+        if (
+            cur != start
+            and not known[ci, cj]
+            and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
+            and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id)
+        ):
+            return cur
+        near = squeeze or cur == start or parent[cur] == start
+        g = steps[cur] + 1
+        for di, dj in _NEIGHBOURS:
+            nxt = (ci + di) * n + cj + dj
+            if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
+                continue
+            if not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
+                continue
+            stamp[nxt] = search_id
+            parent[nxt] = cur
+            steps[nxt] = g
+            if size == heap.size:
+                return -1  # (cannot happen: a cell enters the queue at most once from each neighbour)
+            size = _heap_push(heap, heap_cells, size, _priority(ci + di, cj + dj, g, dx, dy, dr), nxt)
+    return -1
+
+
+# the disk search's priority, an int64 packing 21 bits each of the bound on a path's steps, the
+# steps so far (complemented: more steps, a smaller priority) and the straight distance to the
+# disk's centre (in 1/256 cells), so that comparing priorities orders them in that order
+_BITS = 21
+_MASK = (1 << _BITS) - 1
+
+
+@njit(cache=True, inline="always")
+def _priority(i, j, g, dx, dy, dr):  # pragma: no cover - compiled
+    ex, ey = i + 0.5 - dx, j + 0.5 - dy
+    bound = g + max(0, math.ceil(max(abs(ex), abs(ey)) - dr - 1e-9))  # Chebyshev distance to the disk, at least
+    straight = min(_MASK, int(256.0 * math.sqrt(ex * ex + ey * ey)))
+    return (bound << (2 * _BITS)) | ((_MASK - g) << _BITS) | straight
+
+
+@njit(cache=True, inline="always")
+def _heap_push(heap, cells, size, priority, cell):  # pragma: no cover - compiled
+    """Push ``cell`` with ``priority`` onto the binary min-heap ``heap[:size]`` (``cells`` beside
+    it); the new size."""
+    k = size
+    while k > 0:
+        up = (k - 1) >> 1
+        if heap[up] <= priority:
+            break
+        heap[k] = heap[up]
+        cells[k] = cells[up]
+        k = up
+    heap[k] = priority
+    cells[k] = cell
+    return size + 1
+
+
+@njit(cache=True, inline="always")
+def _heap_pop(heap, cells, size):  # pragma: no cover - compiled
+    """Drop the least entry of the binary min-heap ``heap[:size]`` (``cells`` beside it); the new size."""
+    size -= 1
+    priority, cell = heap[size], cells[size]
+    k = 0
+    while True:
+        child = 2 * k + 1
+        if child >= size:
+            break
+        if child + 1 < size and heap[child + 1] < heap[child]:
+            child += 1
+        if heap[child] >= priority:
+            break
+        heap[k] = heap[child]
+        cells[k] = cells[child]
+        k = child
+    heap[k] = priority
+    cells[k] = cell
+    return size
+
+
+@njit(cache=True)
+def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """The index of the farthest cell along ``path`` (at most ``most`` cells on, at least 1) that a
+    straight line from ``(gx, gy)`` (grid units) reaches over passable cells only: the planner heads
+    straight for it, not along the search's 8-connected zig-zags. ``walk_stamp`` / ``walk`` /
+    ``walk_id`` as in :func:`search`."""
+    n = free.shape[0]
+    best = 1
+    for k in range(2, min(most, path.size - 1) + 1):
+        if not _line_clear(free, hits, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_stamp, walk, walk_id):
+            break
+        best = k
+    return best
+
+
+@njit(cache=True)
+def lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """:func:`_line_clear` for the line from ``(gx, gy)`` to ``(tx, ty)`` shifted by ``k`` times
+    ``(nx, ny)``, for every ``k`` from ``-margin`` to ``margin``."""
+    for k in range(-margin, margin + 1):
+        if not _line_clear(free, hits, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_stamp, walk, walk_id):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """Whether the straight line from ``(gx, gy)`` to ``(tx, ty)`` (grid units), sampled every third
+    of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
+    ``squeeze``, free cells that are not walls will do)."""
+    samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
+    for s in range(1, samples + 1):
+        x = gx + (tx - gx) * s / samples
+        y = gy + (ty - gy) * s / samples
+        near = squeeze or (x - gx) ** 2 + (y - gy) ** 2 <= 4.0  # a robot by a wall leaves it over free cells
+        if not _passable_once(free, hits, int(x), int(y), near, walk_stamp, walk, walk_id):
+            return False
+    return True
+
+
+@njit(cache=True)
+def waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+    """The cell the planner heads for (:func:`_farthest_in_sight`) along the path from the search's
+    start to ``found`` (written into ``scratch``)."""
+    length = 0
+    cur = found
+    while parent[cur] != -1:
+        length += 1
+        cur = parent[cur]
+    cur = found
+    for k in range(length, -1, -1):
+        scratch[k] = cur
+        cur = parent[cur]
+    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze, walk_stamp, walk, walk_id)]
+
+
+@njit(cache=True)
+def path_to(parent, found):  # pragma: no cover - compiled
+    """The flat indices from the search's start to ``found``, in order."""
+    length = 0
+    cur = found
+    while parent[cur] != -1:
+        length += 1
+        cur = parent[cur]
+    path = np.empty(length + 1, dtype=np.int64)
+    cur = found
+    for k in range(length, -1, -1):
+        path[k] = cur
+        cur = parent[cur]
+    return path
+
+
+@njit(cache=True)
+def known_with_steps(known, parent, queue, reached, depth, n):  # pragma: no cover - compiled
+    """Of the cells a search reached (``queue[:reached]``, in the order reached), those ``known``
+    holds, with their path lengths in steps (``depth``: scratch, one entry per cell)."""
+    count = 0
+    for k in range(reached):
+        c = queue[k]
+        depth[c] = 0 if k == 0 else depth[parent[c]] + 1
+        if known[c // n, c % n]:
+            count += 1
+    cells = np.empty(count, dtype=np.int64)
+    steps = np.empty(count, dtype=np.int64)
+    m = 0
+    for k in range(reached):
+        c = queue[k]
+        if known[c // n, c % n]:
+            cells[m] = c
+            steps[m] = depth[c]
+            m += 1
+    return cells, steps

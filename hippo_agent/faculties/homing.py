@@ -1,0 +1,215 @@
+"""Homing: back to where the goal was found, and a search round that place.
+
+A faculty of the default model (``AgentConfig.homing``; it needs ``path_integration`` and
+``map``). At each reward the agent remembers its estimate (:meth:`Homing.remember`). In a later
+run of the same trial, within ``radius`` of the mean of those places, it heads there instead of
+preplaying: straight at it while the line to within ``approach_radius`` of it crosses walkable
+ground with a cell to spare on either side, else along the map's shortest walkable path to ground
+within ``approach_radius`` (the place, where the robot entered the goal disk, may lie by a wall),
+then straight on. Where the map knows no path, preplay steers.
+
+Arrived (within ``arrived``), or stopped by a wall on the last stretch, without the reward, it
+searches the ground within ``search_radius`` of the place afresh. If that search finds nothing, or
+it bumped ``bump_limit`` times on the way into walls its map does not hold, its estimate must be
+at a look-alike place: :meth:`Homing.plan` and :meth:`Homing.bumped` say so, and the agent anchors
+afresh away from there. After ``attempts`` such failures in a run, the memory itself is taken to
+be wrong (written while misplaced, say): neither homing nor the reward map steers for the rest of
+the run (:attr:`Homing.gave_up`), and the next reward replaces the memory.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from hippo_agent.faculties.localisation import Localisation
+from hippo_agent.faculties.map import ExplorationMap
+from hippo_agent.faculties.path_integration import PathIntegrator
+from hippo_agent.sections import Section, param
+
+__all__ = ["Homing", "HomingConfig"]
+
+
+@dataclass(frozen=True)
+class HomingConfig(Section):
+    """Homing to the remembered place of the current goal."""
+
+    name: ClassVar[str] = "homing"
+
+    radius: float = param(100.0, gt=0)
+    """Within this distance (m, by path integration) of the remembered place, head there instead
+    of preplaying (100 m: from anywhere in any arena the generator makes)."""
+    approach_radius: float = param(0.6, gt=0)
+    """Within this distance (m) of the place the robot goes straight at it; the planned path
+    leads to ground this near it, and a bump this near starts the search round it."""
+    arrived: float = param(0.1, gt=0)
+    """This close (m) to the place without a reward, the robot searches round it."""
+    search_radius: float = param(1.0, gt=0)
+    """Radius (m) of that search."""
+    search_mark: float = param(0.25, gt=0)
+    """During that search, ground within this distance (m) of the path counts as searched
+    (narrower than a run's marking: the place lies at the goal disk's edge)."""
+    bump_limit: int = param(20, ge=1)
+    """This many bumps while homing, into walls the map does not hold, and the estimate is taken
+    to be at a look-alike place."""
+    attempts: int = param(3, ge=1)
+    """After this many failed searches in a run, the memory is given up for the rest of the run."""
+
+
+class Homing:
+    """Homing (module docstring).
+
+    Args:
+        config: its parameters.
+        map: the agent's map (paths, and the ground searched in this run).
+        pi: the agent's path integrator (the estimate).
+        localisation: the agent's localisation, if any (homing waits while it doubts the estimate).
+    """
+
+    def __init__(self, config: HomingConfig, map: ExplorationMap, pi: PathIntegrator, localisation: Localisation | None) -> None:  # noqa: A002
+        self.config = config
+        self.map = map
+        self.pi = pi
+        self.localisation = localisation
+        # per goal, the sum of the estimates at which the reward was found, and their count
+        self.found_sum = np.zeros((0, 2))
+        self.found_count = np.zeros(0)
+        self.searching = False  # arrived without the reward: searching round the place
+        self.failures = 0  # searches that found no reward, this run
+        self.bumps = 0  # bumps while homing since the last failed search, this run
+        self.heading: float | None = None  # where to head, as of the last :meth:`plan`
+
+    # ------------------------------------------------------------------ the memory
+    def new_goal(self) -> None:
+        """A new goal: nothing remembered of it yet."""
+        self.found_sum = np.vstack([self.found_sum, np.zeros((1, 2))])
+        self.found_count = np.append(self.found_count, 0.0)
+
+    def remember(self, where: np.ndarray) -> None:
+        """The current goal's reward was found at ``where`` (an estimate)."""
+        if self.found_count.size == 0:
+            self.new_goal()
+        self.found_sum[-1] += where
+        self.found_count[-1] += 1.0
+
+    def forget(self) -> None:
+        """Forget where the current goal was found."""
+        if self.found_count.size:
+            self.found_sum[-1] = 0.0
+            self.found_count[-1] = 0.0
+
+    def remembered(self) -> np.ndarray | None:
+        """Where the current goal's reward was found, on average; ``None`` before it was found."""
+        if self.found_count.size == 0 or self.found_count[-1] == 0:
+            return None
+        return self.found_sum[-1] / self.found_count[-1]
+
+    @property
+    def gave_up(self) -> bool:
+        """The memory failed ``attempts`` times in this run: it steers no more."""
+        return self.failures >= self.config.attempts
+
+    # ------------------------------------------------------------------ a run
+    def reset(self) -> None:
+        """A run begins."""
+        self.searching = False
+        self.failures = 0
+        self.bumps = 0
+        self.heading = None
+
+    def distance(self) -> float:
+        """How far (m, by path integration) the remembered place is; inf if none."""
+        target = self.remembered()
+        if target is None:
+            return math.inf
+        here = self.pi.estimate
+        return float(np.hypot(float(target[0]) - float(here[0]), float(target[1]) - float(here[1])))
+
+    def plan(self) -> bool:
+        """Decide :attr:`heading` for this step (``None``: homing does not steer: no memory, too
+        far, no known path, or the estimate is lost or doubted). Starts the search round the place
+        on arrival. ``True`` when that search is done without the reward: the estimate must be at
+        a look-alike place (and :attr:`heading` is ``None``)."""
+        c = self.config
+        self.heading = None
+        target = self.remembered()
+        trusted = self.localisation.trusted if self.localisation is not None else self.pi.anchored
+        if target is None or not trusted:
+            return False
+        here = self.pi.estimate
+        distance = self.distance()
+        if distance > c.radius:
+            return False
+        if distance < c.arrived and not self.searching:
+            self._start_search()
+        if self.searching:
+            heading = self.map.heading_to_unsearched_near(here, target, c.search_radius)
+            if heading is None:  # searched all round the place without finding the reward
+                self._failed()
+                return True
+        elif distance <= c.approach_radius or self.map.in_sight(here, _toward(here, target, distance - c.approach_radius)):
+            heading = math.atan2(target[1] - here[1], target[0] - here[0])  # straight at it (a bump this near ends homing)
+        else:
+            # the place itself may be by a wall, off the walkable map: path to walkable ground
+            # within approach_radius of it, the ground from which the robot goes straight on
+            heading = self.map.heading_to_near(here, target, c.approach_radius)
+        self.heading = heading
+        return False
+
+    def bumped(self, surprising: bool) -> bool:
+        """A bump while homing (``surprising``: where the map shows no wall). ``True`` after
+        ``bump_limit`` such bumps: the map's free way was not free, the estimate must be at a
+        look-alike place. A bump on the last stretch starts the search round the place."""
+        self.bumps += surprising
+        if self.bumps >= self.config.bump_limit:
+            self._failed()
+            return True
+        if not self.searching and self.distance() <= self.config.approach_radius:
+            self._start_search()  # as near the place as the wall lets it
+        return False
+
+    @property
+    def search_mark(self) -> float | None:
+        """The radius (m) within which the map counts ground searched while searching round the
+        place; ``None`` (the map's own) otherwise."""
+        return self.config.search_mark if self.searching else None
+
+    def _start_search(self) -> None:
+        """Arrived without the reward: search all round the place afresh."""
+        self.searching = True
+        target = self.remembered()
+        if target is not None:
+            self.map.forget_searched_near(target, self.config.search_radius)
+
+    def _failed(self) -> None:
+        self.searching = False
+        self.bumps = 0
+        self.failures += 1
+
+    # ------------------------------------------------------------------ save / load
+    def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """(JSON-able state, arrays): what :meth:`load_state` restores."""
+        return {"searching": self.searching, "failures": self.failures, "bumps": self.bumps}, {
+            "found_sum": self.found_sum,
+            "found_count": self.found_count,
+        }
+
+    def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state`."""
+        found_sum = np.asarray(arrays["found_sum"], dtype=np.float64).reshape(-1, 2)
+        found_count = np.asarray(arrays["found_count"], dtype=np.float64).reshape(-1)
+        if len(found_sum) != len(found_count) or not (np.all(np.isfinite(found_sum)) and np.all(np.isfinite(found_count))):
+            raise ValueError(f"homing remembers {len(found_sum)} places but {len(found_count)} counts, or values not finite")
+        self.found_sum, self.found_count = found_sum, found_count
+        self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
+
+
+def _toward(start: np.ndarray, end: np.ndarray, length: float) -> tuple[float, float]:
+    """The point ``length`` metres from ``start`` toward ``end``."""
+    x, y = float(start[0]), float(start[1])
+    dx, dy = float(end[0]) - x, float(end[1]) - y
+    f = length / math.hypot(dx, dy)
+    return x + f * dx, y + f * dy

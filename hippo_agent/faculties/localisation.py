@@ -1,0 +1,222 @@
+"""Localisation against the map: the path integrator's belief checked against what the map holds.
+
+A faculty of the default model (``AgentConfig.localisation``; it needs ``path_integration`` and
+``map``). The place code alone gives look-alike places the same cells; the map holds their
+surroundings beyond the nearest walls, where they differ (a door here, not there). So, in runs:
+
+- **while the estimate is lost** (the robot was put down somewhere), each sample of the belief
+  is weighed by how well the current scan fits the map from there (:meth:`Localisation.evidence`),
+  and the map proposes walkable places where the scan fits it, which the place code's vote may
+  never propose;
+- **once anchored**, a running mean of the scan's fit at the estimate is kept: when it falls
+  below ``lost_agreement``, the robot anchors afresh; while it is below ``learn_agreement`` the
+  cells do not learn (:attr:`Localisation.trusted`);
+- **look-alike doubt**: on anchoring, the ``look_alikes`` places where the scan fits the map best
+  (at least ``rule_out_radius`` away) are carried along by odometry; when one of them fits better
+  than the estimate by ``doubt_margin``, the estimate is taken to be at a look-alike place;
+- **surprising bumps**: a running rate of bumps where the map shows no wall; past
+  ``lost_bump_rate``, the robot anchors afresh.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from hippo_agent.faculties.map import ExplorationMap
+from hippo_agent.faculties.path_integration import PathIntegrator
+from hippo_agent.sections import Section, param
+
+__all__ = ["Localisation", "LocalisationConfig"]
+
+
+@dataclass(frozen=True)
+class LocalisationConfig(Section):
+    """Localisation against the map."""
+
+    name: ClassVar[str] = "localisation"
+
+    beta: float = param(10.0, ge=0)
+    """While a run's estimate is lost, each sample is weighed by ``exp(beta * agreement)``, the
+    agreement (in [-1, 1]) of the scan with the map seen from there."""
+    proposals: int = param(16, ge=0)
+    """While lost, the map proposes this many walkable places (of every second map cell), drawn
+    with probability ``exp(beta * agreement)``; the belief redraws some samples round them (0: none)."""
+    check_every: int = param(2, ge=1)
+    """Once anchored, the scan's fit at the estimate is checked every this many steps."""
+    fit_rate: float = param(0.1, gt=0, le=1)
+    """Rate per step of the running mean of the fit: it spans about 10 steps."""
+    lost_agreement: float = param(0.4, ge=-1, le=1)
+    """When the running fit falls below this, the estimate is taken to be wrong: anchor afresh."""
+    learn_agreement: float = param(0.6, ge=-1, le=1)
+    """The cells learn only while the running fit is at least this (-1: whenever anchored): an
+    estimate at a look-alike place would teach the place code the wrong place."""
+    look_alikes: int = param(8, ge=0)
+    """On anchoring in a run, this many places where the scan fits the map best, at least
+    ``path_integration.rule_out_radius`` away and apart, are followed beside the estimate (0: off)."""
+    doubt_margin: float = param(0.1, ge=0)
+    """A look-alike place whose running fit exceeds the estimate's by this takes the anchoring to be wrong."""
+    lost_bump_rate: float | None = param(0.15, ge=0)
+    """Anchored in a run, when the running rate of bumps where the map shows no wall exceeds
+    this, the estimate is taken to be wrong (``None``: off). A well-placed robot bumps rarely; one
+    following its map in the wrong room, often."""
+    bump_rate_steps: int = param(50, ge=1)
+    """The window (steps) of that running rate."""
+
+
+class Localisation:
+    """The belief checked against the map (module docstring).
+
+    Args:
+        config: its parameters.
+        map: the agent's map.
+        pi: the agent's path integrator, whose belief this faculty weighs and may declare lost.
+        max_range: the rangefinder's maximum range (m).
+        rng: the agent's generator (the map's proposals).
+    """
+
+    def __init__(
+        self, config: LocalisationConfig, map: ExplorationMap, pi: PathIntegrator, max_range: float, rng: np.random.Generator
+    ) -> None:  # noqa: A002
+        self.config = config
+        self.map = map
+        self.pi = pi
+        self.max_range = max_range
+        self.rng = rng
+        self.fit = 1.0  # running mean of how well the scan fits the map at the estimate (runs)
+        self.bump_rate = 0.0  # running mean of surprising bumps per step while anchored (runs)
+        self.look_alikes = np.empty((0, 2))  # offsets from the estimate of places it may be confused with
+        self.look_alike_fit = np.empty(0)  # running means of the scan's fit there
+        self.own_fit = 1.0  # the same at the estimate, from its value when they were picked
+        self._candidates: np.ndarray | None = None  # walkable map places, cached while the map does not change
+
+    @property
+    def trusted(self) -> bool:
+        """Anchored, and the scan fits the map well enough for the cells to learn."""
+        return self.pi.anchored and self.fit >= self.config.learn_agreement
+
+    def reset(self) -> None:
+        """A run begins: no doubt yet."""
+        self._relocalised()
+
+    def relocalise(self, rule_out: bool = False) -> None:
+        """The estimate is taken to be at a look-alike place: anchor afresh (with ``rule_out``,
+        away from where the estimate was)."""
+        self.pi.lose(rule_out=rule_out)
+        self._relocalised()
+
+    def _relocalised(self) -> None:
+        self._candidates = None
+        self.look_alikes, self.look_alike_fit = np.empty((0, 2)), np.empty(0)
+        self.fit = 1.0
+        self.bump_rate = 0.0
+
+    # ------------------------------------------------------------------ while lost
+    def evidence(
+        self, ranges: np.ndarray, heading: float, dry: bool
+    ) -> tuple[Callable[[np.ndarray], np.ndarray | None], Callable[[], np.ndarray | None]]:
+        """The map's evidence for :meth:`PathIntegrator.correct`: a likelihood of each sample and
+        proposed places, both ``None`` (no evidence) in the dry run and once anchored."""
+
+        def likelihood(particles: np.ndarray) -> np.ndarray | None:
+            if dry or self.pi.anchored:
+                return None
+            return np.exp(self.config.beta * self.map.scan_agreement(particles, heading, ranges, self.max_range))
+
+        def proposals() -> np.ndarray | None:
+            c = self.config
+            if c.proposals == 0 or dry or self.pi.anchored:
+                return None
+            candidates = self._walkable()
+            if candidates.shape[0] == 0:
+                return None
+            fit = self.map.scan_agreement(candidates, heading, ranges, self.max_range)
+            p = np.exp(c.beta * (fit - fit.max()))
+            return candidates[self.rng.choice(fit.size, size=c.proposals, p=p / p.sum())]
+
+        return likelihood, proposals
+
+    def _walkable(self) -> np.ndarray:
+        if self._candidates is None:  # (the map does not change while the robot is lost)
+            self._candidates = self.map.walkable_points()
+        return self._candidates
+
+    # ------------------------------------------------------------------ once anchored
+    def check(self, ranges: np.ndarray, heading: float, step: int, dry: bool, just_anchored: bool) -> None:
+        """After the belief's correction in a run: on anchoring, pick the look-alike places; every
+        ``check_every`` steps, update the running fits and anchor afresh if the estimate's is too
+        low or a look-alike place fits better by ``doubt_margin``."""
+        if dry:
+            return
+        if just_anchored:
+            self._pick_look_alikes(ranges, heading)
+        every = self.config.check_every
+        if not self.pi.anchored or step % every:
+            return
+        c = self.config
+        fits = self.map.scan_agreement(self.look_alikes, heading, ranges, self.max_range, around=self.pi.estimate)
+        rate = min(1.0, c.fit_rate * every)
+        own = float(fits[0])
+        self.fit = (1.0 - rate) * self.fit + rate * own
+        if self.fit < c.lost_agreement:
+            self.relocalise()
+        elif len(self.look_alikes):
+            self.own_fit = (1.0 - rate) * self.own_fit + rate * own
+            # (in floats: faster than NumPy on a few values)
+            running = [(1.0 - rate) * old + rate * new for old, new in zip(self.look_alike_fit.tolist(), fits.tolist()[1:])]
+            self.look_alike_fit = np.array(running)
+            if max(running) > self.own_fit + c.doubt_margin:
+                self.relocalise(rule_out=True)
+
+    def _pick_look_alikes(self, ranges: np.ndarray, heading: float) -> None:
+        """Remember, as offsets from the estimate, the ``look_alikes`` places at least
+        ``rule_out_radius`` away (and apart) where the scan fits the map best."""
+        c, radius = self.config, self.pi.config.rule_out_radius
+        self.look_alikes, self.look_alike_fit = np.empty((0, 2)), np.empty(0)
+        if c.look_alikes == 0:
+            return
+        candidates = self._walkable()
+        fit = self.map.scan_agreement(candidates, heading, ranges, self.max_range)
+        offsets = candidates - self.pi.estimate
+        chosen: list[int] = []
+        for i in np.argsort(-fit, kind="stable"):
+            if all(math.hypot(*(offsets[i] - offsets[j])) > radius for j in chosen) and math.hypot(*offsets[i]) > radius:
+                chosen.append(int(i))
+                if len(chosen) == c.look_alikes:
+                    break
+        if chosen:
+            self.look_alikes = offsets[chosen]
+            self.look_alike_fit = fit[chosen]
+            self.own_fit = float(self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0])
+
+    def count_bump(self, surprising: bool) -> None:
+        """A step of a run while anchored: the running rate of bumps where the map shows no wall;
+        past ``lost_bump_rate``, anchor afresh."""
+        c = self.config
+        if c.lost_bump_rate is None:
+            return
+        self.bump_rate += (float(surprising) - self.bump_rate) / c.bump_rate_steps
+        if self.bump_rate > c.lost_bump_rate:
+            self.relocalise()
+
+    # ------------------------------------------------------------------ save / load
+    def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """(JSON-able state, arrays): what :meth:`load_state` restores."""
+        return {"fit": self.fit, "bump_rate": self.bump_rate, "own_fit": self.own_fit}, {
+            "look_alikes": self.look_alikes,
+            "look_alike_fit": self.look_alike_fit,
+        }
+
+    def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state`."""
+        self.fit, self.bump_rate, self.own_fit = float(state["fit"]), float(state["bump_rate"]), float(state["own_fit"])
+        offsets = np.asarray(arrays["look_alikes"], dtype=np.float64).reshape(-1, 2)
+        fits = np.asarray(arrays["look_alike_fit"], dtype=np.float64).reshape(-1)
+        if len(offsets) != len(fits) or not (np.all(np.isfinite(offsets)) and np.all(np.isfinite(fits))):
+            raise ValueError(f"{len(offsets)} look-alike places but {len(fits)} fits to them, or values not finite")
+        self.look_alikes, self.look_alike_fit = offsets, fits
+        self._candidates = None
