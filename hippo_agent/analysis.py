@@ -22,7 +22,7 @@ def place_field_map(agent: Any, env: Any, positions: np.ndarray, heading: float 
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
     out = np.full((len(positions), agent.place.n), np.nan)
     base = env.unwrapped
-    offset = agent.frame_offset(env) if agent.config.path_integration else None
+    offset = agent.frame_offset(env) if agent.pi is not None else None
     for n, pos in enumerate(positions):
         try:
             obs = base.observation_at(pos, heading)

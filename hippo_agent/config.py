@@ -102,15 +102,19 @@ class AgentConfig:
         return dataclasses.replace(self, **changes)
 
     def with_values(self, values: dict[str, Any]) -> AgentConfig:
-        """A copy with fields changed by dotted name (``{"model.n_place": 500}``) or whole sections
-        by name (``{"homing": None}``, ``{"homing": {"radius": 5.0}}``: a dict of the section's fields)."""
+        """A copy with fields changed by dotted name (``{"model.n_place": 500}``) or sections by name:
+        ``{"homing": None}`` turns a faculty off, ``{"homing": {"radius": 5.0}}`` changes those fields
+        of the section (of its defaults if it was off)."""
         sections: dict[str, Any] = {}
         for key, value in values.items():
             section, _, field_name = key.partition(".")
             if section not in _SECTIONS:
                 raise ValueError(f"{key!r} names no section of AgentConfig; sections: {', '.join(_SECTIONS)}")
-            if not field_name:
-                sections[section] = _SECTIONS[section].from_dict(value) if isinstance(value, dict) else value
+            if not field_name:  # a whole section: None (off), a section, or a dict of fields to change in it
+                if isinstance(value, dict):
+                    current = sections.get(section, getattr(self, section))
+                    value = _SECTIONS[section].from_dict(value) if current is None else current.replace(**value)
+                sections[section] = value
                 continue
             current = sections.get(section, getattr(self, section))
             if current is None:

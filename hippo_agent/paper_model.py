@@ -98,8 +98,8 @@ class ModelConfig(Section):
 
     # ---------------------------------------------------------------- place -> place (eqs. 6-7)
     trace_rate: float = param(0.3, gt=0, le=1)
-    """Rate at which the place-cell traces move toward the rates (eq. 6): a window of about one
-    place field, so replay's links stay short and the reward map graded."""
+    """Rate at which the place-cell traces move toward the rates (eq. 6): a window of about 3
+    updates (0.5 m), so replay's links stay short and the reward map graded."""
     hd_trace_rate: float = param(1.0, gt=0, le=1)
     """Rate at which the head-direction trace moves toward the head-direction rates (eq. 6); 1:
     the current heading."""
@@ -151,8 +151,9 @@ class ModelConfig(Section):
     @classmethod
     def paper(cls, **changes: Any) -> ModelConfig:
         """The values the paper's model runs with: the dry run a random walk of 5,000 steps that
-        learns eq. 5 only, 20 replay iterations with tau_r 1, the thresholds xi 1e-3 and
-        xi_here 1e-6 of the reference implementation; the rest as the defaults."""
+        learns eq. 5 only; 20 replay iterations (the reference implementation's) with tau_r 1 (chosen
+        with the random-walk dry run); the reference's thresholds xi 1e-3 and xi_here 1e-6; the
+        rest as the defaults."""
         paper = {"learn_pp_in_dry_run": False, "dry_run_steps": 5000, "tau_r": 1.0, "replay_iterations": 20, "xi": 1e-3, "xi_here": 1e-6}
         return cls(**{**paper, **changes})
 

@@ -193,7 +193,7 @@ def env():
 
 
 def test_unknown_reset_option(env):
-    with pytest.raises(ValueError, match=r"reset options \['goal_position'\] are unknown; allowed: goal, new_goal, start, heading"):
+    with pytest.raises(ValueError, match=r"reset options \['goal_position'\] are unknown; allowed: maze, goal, new_goal, start, heading"):
         env.reset(options={"goal_position": [1, 1]})
 
 

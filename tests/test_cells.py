@@ -10,10 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hippo_agent import AgentConfig
+from hippo_agent import ModelConfig
 from hippo_agent.cells import BoundaryVectorCells, HeadDirectionCells, PlaceCells, RewardCells, _kernels, replay
 
-BVC = AgentConfig().bvc_kwargs()  # the cells' parameters as the agent passes them
+BVC = ModelConfig().bvc_kwargs()  # the cells' parameters as the agent passes them
 
 
 def square_ranges(pos, heading, n_rays=720, half=5.0, max_range=10.0):
@@ -86,15 +86,7 @@ def test_bvc_is_allocentric():
 def test_bvc_ignores_rays_at_max_range():
     scan = np.full(720, 10.0, np.float32)
     assert BoundaryVectorCells(720, 10.0, **BVC).rates_for(scan, 0.0).max() == 0.0
-    assert BoundaryVectorCells(720, 10.0, **{**BVC, "ignore_max_range": False}).rates_for(scan, 0.0).max() > 0.4
-
-
-def test_bvc_distance_scaled_sigma():
-    bvc = BoundaryVectorCells(720, 10.0, **{**BVC, "distance_scaled": True})
-    assert bvc.sigma_r[0] == pytest.approx(0.5) and bvc.sigma_r[-1] == pytest.approx(0.5 * (1 + 10 / 1.83))
-    near = bvc.rates_for(np.full(720, bvc.distances[5], np.float32), 0.0).reshape(8, 50)[0, 5]
-    far = bvc.rates_for(np.full(720, bvc.distances[45], np.float32), 0.0).reshape(8, 50)[0, 45]
-    assert far < near <= 0.5 + 1e-9  # far cells are broader and weaker, as in Barry et al.
+    assert np.all(BoundaryVectorCells(720, 10.0, **BVC).sigma_r == 0.5)  # (the same radial width at every distance)
 
 
 def test_bvc_rejects_wrong_scan_length():
@@ -104,7 +96,7 @@ def test_bvc_rejects_wrong_scan_length():
 
 # ------------------------------------------------------------------ place cells (eqs. 3-5)
 def make_place(n=50, n_bvc=400, seed=0, **kw):
-    return PlaceCells(n, n_bvc, 8, np.random.default_rng(seed), **{**AgentConfig().place_kwargs(), **kw})
+    return PlaceCells(n, n_bvc, 8, np.random.default_rng(seed), **{**ModelConfig().place_kwargs(), **kw})
 
 
 def test_place_rates_are_tanh_of_rectified_potential():

@@ -33,7 +33,7 @@ def test_twins_and_similarity_across_walls():
 def test_diagnose_runs_and_reports_every_measure(tmp_path):
     path = tmp_path / "small.json"
     path.write_text('{"name": "small", "size": [4.0, 4.0], "obstacles": []}')
-    record, coverage = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, config='{"n_place": 300}'))
+    record, coverage = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, config='{"model.n_place": 300}'))
     for key in (
         "twins",
         "reward_map_spearman",
@@ -57,12 +57,12 @@ def test_diagnose_runs_and_reports_every_measure(tmp_path):
 def test_maze_suite_runs_a_generated_maze():
     assert maze_source("open") == "open"
     assert MazeSpec.load(maze_source("gen-walls-100")).name == "gen-walls-100"
-    row = one("paper", "open", seed=0, trials=1, dry_run_steps=200, config_json='{"n_place": 200}')
+    row = one("paper", "open", seed=0, trials=1, dry_run_steps=200, config_json='{"model.n_place": 200}')
     assert row["trials"] == 1 and len(row["median_per_run"]) == 4 and row["env_steps_total"] > 200
 
 
 def test_oracle_diagnosis_runs_with_the_true_position(tmp_path):
     path = tmp_path / "small.json"
     path.write_text('{"name": "small", "size": [4.0, 4.0], "obstacles": []}')
-    record, _ = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, oracle=True, config='{"n_place": 300}'))
+    record, _ = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, oracle=True, config='{"model.n_place": 300}'))
     assert record["oracle_privileged"] and record["pi_error_median_m"] < 1e-9

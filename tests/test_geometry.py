@@ -60,22 +60,6 @@ def test_unknown_fields_lists_the_names_that_are_no_field():
     assert unknown_fields(Params, {"alpha": 1}) == []
 
 
-def test_cells_take_their_parameters_from_the_config_only():
-    from hippo_agent import AgentConfig
-    from hippo_agent.cells import BoundaryVectorCells, PathIntegrator, PlaceCells
-
-    with pytest.raises(TypeError):
-        BoundaryVectorCells(720, 10.0)
-    with pytest.raises(TypeError):
-        PlaceCells(10, 20, 8, np.random.default_rng(0))
-    with pytest.raises(TypeError):
-        PathIntegrator(10, np.random.default_rng(0))
-    config = AgentConfig()
-    BoundaryVectorCells(720, 10.0, **config.bvc_kwargs())
-    PlaceCells(10, 20, 8, np.random.default_rng(0), **config.place_kwargs())
-    PathIntegrator(10, np.random.default_rng(0), **config.path_integrator_kwargs())
-
-
 def test_one_draw_maze_serves_the_env_and_the_agent_figures():
     import matplotlib
 

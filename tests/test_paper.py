@@ -139,7 +139,9 @@ def test_scripted_driver_walks_the_path_and_the_agent_learns():
 
     env = make_env("open")
     env.reset(seed=0, options={"goal": None})
-    agent = HippocampalAgent(env.observation_space, env.action_space, config=AgentConfig.paper(dry_run_steps=200), seed=0)
+    agent = HippocampalAgent(
+        env.observation_space, env.action_space, config=AgentConfig.paper().with_values({"model.dry_run_steps": 200}), seed=0
+    )
     agent.dry_run(env)
     before = agent.place.W_pp.copy()
     path = drive_scripted(env, agent, ((-2.0, -2.0), (2.0, -2.0), (2.0, 1.0)))

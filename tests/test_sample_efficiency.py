@@ -87,7 +87,7 @@ class TestQuickRun:
     def test_hippo_dry_run_is_counted(self, quick):
         out, _ = quick
         record = _records(out)["hippo__open__sparse__seed0"]
-        dry = cli.QUICK_OVERRIDES["hippo"]["dry_run_steps"]
+        dry = cli.QUICK_OVERRIDES["hippo"]["model.dry_run_steps"]
         learn = record["learn"]
         assert learn["prepare_steps"] == [dry, dry]  # a fresh agent, and its dry run, per trial
         assert learn["env_steps_total"] >= 2 * dry + sum(learn["episodes"]["steps"])

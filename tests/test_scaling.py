@@ -193,9 +193,9 @@ def test_the_exploring_walk_hides_the_remembered_place_so_the_default_model_sear
     args = agent_throughput.Args(steps=30, repeats=1, dry_run_steps=30, peer_steps=0)
     env, agent, *_ = agent_throughput._trained("default", 60, args)
     recorded = agent_throughput._recorded_walk(env, args)
-    agent.reward.remember_place(np.zeros(2))  # (whether or not run 1 found the goal)
-    place = agent.reward.remembered_place().copy()
+    agent.homing.remember(np.zeros(2))  # (whether or not run 1 found the goal)
+    place = agent.homing.remembered().copy()
     for exploit in (False, True):
         *_, decisions = agent_throughput._timed(agent, recorded, exploit, 1)
         assert (decisions["home"] > 0) == exploit, decisions
-        assert np.array_equal(agent.reward.remembered_place(), place)
+        assert np.array_equal(agent.homing.remembered(), place)

@@ -202,10 +202,10 @@ def test_dry_run_steps_of_an_agent_kept_across_trials():
 
 
 def test_hippocampal_agent_config_is_recorded():
-    factory = registry.agent_factory("hippo", dry_run_steps=30, n_place=50)
+    factory = registry.agent_factory("hippo", **{"model.dry_run_steps": 30, "model.n_place": 50})
     result = run_dmtp(factory, "open", trials=1, runs=1, max_episode_steps=10, agent_name="hippo", progress=False)
     record = json.loads(json.dumps(result.to_dict(), allow_nan=False))
-    assert record["agent_config"]["n_place"] == 50 and record["agent_config"]["dry_run_steps"] == 30
+    assert record["agent_config"]["model"]["n_place"] == 50 and record["agent_config"]["model"]["dry_run_steps"] == 30
     assert record["env_kwargs"] == {"odometry": True, "max_episode_steps": 10}
     assert 0 < record["dry_run_steps"][0] <= 30
     assert record["env_steps_total"] == sum(record["dry_run_steps"]) + sum(e["steps"] for e in record["episodes"])

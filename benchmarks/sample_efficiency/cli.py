@@ -90,8 +90,8 @@ QUICK_OVERRIDES: dict[str, dict[str, Any]] = {
         "target_update_interval": 200,
     },
     "ppo": {"n_steps": 128, "batch_size": 32, "n_epochs": 2},
-    "hippo": {"dry_run_steps": 300},
-    "hippo-paper": {"dry_run_steps": 300},
+    "hippo": {"model.dry_run_steps": 300},
+    "hippo-paper": {"model.dry_run_steps": 300},
 }
 #: What records made before job records kept their own date and versions are known by (``provenance.json``).
 PROVENANCE_FILE = "provenance.json"

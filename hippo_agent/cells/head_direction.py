@@ -14,8 +14,8 @@ class HeadDirectionCells:
 
     Eq. 1 (Erdem & Hasselmo) projects the unit heading vector onto each preferred direction,
     ``v^h_k = cos(heading - theta_k)``: a cosine that goes negative behind the cell. It is kept
-    unrectified, as in the reference implementation (sharper, rectified tuning did worse in the
-    feasibility study). Because ``n`` is even, cell ``k + n/2`` is always exactly ``-v^h_k``.
+    unrectified, as in the reference implementation. Because ``n`` is even, cell ``k + n/2`` is
+    always exactly ``-v^h_k``.
 
     Args:
         n: number of cells (even).

@@ -202,7 +202,7 @@ class Homing:
         found_sum = np.asarray(arrays["found_sum"], dtype=np.float64).reshape(-1, 2)
         found_count = np.asarray(arrays["found_count"], dtype=np.float64).reshape(-1)
         if len(found_sum) != len(found_count) or not (np.all(np.isfinite(found_sum)) and np.all(np.isfinite(found_count))):
-            raise ValueError(f"homing remembers {len(found_sum)} places but {len(found_count)} counts, or values not finite")
+            raise ValueError(f"homing's arrays 'found_sum' ({len(found_sum)} places) and 'found_count' ({len(found_count)}) do not match, or are not finite")
         self.found_sum, self.found_count = found_sum, found_count
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
 

@@ -60,7 +60,7 @@ class LocalisationConfig(Section):
     ``path_integration.rule_out_radius`` away and apart, are followed beside the estimate (0: off)."""
     doubt_margin: float = param(0.1, ge=0)
     """A look-alike place whose running fit exceeds the estimate's by this takes the anchoring to be wrong."""
-    lost_bump_rate: float | None = param(0.15, ge=0)
+    lost_bump_rate: float | None = param(0.15, gt=0)
     """Anchored in a run, when the running rate of bumps where the map shows no wall exceeds
     this, the estimate is taken to be wrong (``None``: off). A well-placed robot bumps rarely; one
     following its map in the wrong room, often."""

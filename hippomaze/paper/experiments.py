@@ -45,7 +45,7 @@ def task_fields(maze: str, seed: int, config: AgentConfig, roam_steps: int, spac
     return FieldsResult(
         maze=maze,
         seed=seed,
-        summary=summarise_fields(cells, config.n_place, spec.size[0] * spec.size[1]),
+        summary=summarise_fields(cells, config.model.n_place, spec.size[0] * spec.size[1]),
         cells=cells,
         examples=examples,
         alias_examples=alias_examples,
@@ -128,7 +128,7 @@ def task_generalisation(
                 visited=to_path <= VISITED,
                 replay_learnt=bool(learnt),
                 values=values.astype(np.float32),
-                stats=map_stats(maze, positions, values, goal, path, config.xi),
+                stats=map_stats(maze, positions, values, goal, path, config.model.xi),
                 nav=nav,
             )
         )

@@ -130,7 +130,8 @@ def replay_at(agent: HippocampalAgent, env: gym.Env, goal: Any) -> bool:
     """
     agent.start_trial(agent.trial + 1)
     goal = np.asarray(goal, float)  # (with path integration: as if localised at the goal)
-    agent.place.v = agent.place_rates_at(maze_env(env).observation_at(goal), pi_position=goal - agent.frame_offset(env))
+    where = None if agent.pi is None else goal - agent.frame_offset(env)  # (in the agent's own frame)
+    agent.place.v = agent.place_rates_at(maze_env(env).observation_at(goal), pi_position=where)
     return agent.learn_reward()
 
 

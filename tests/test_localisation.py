@@ -1,0 +1,214 @@
+"""Localisation against the map (:mod:`hippo_agent.faculties.localisation`): no learning while the
+scan fits the map poorly, look-alike places that fit better, surprising bumps, and the faculty's
+own saved state."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from agent_helpers import make_env, ring_scan, same_state
+
+import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+from hippo_agent import AgentConfig, HippocampalAgent
+from hippo_agent.faculties.localisation import Localisation
+from hippo_agent.spaces import unpack
+
+
+def test_a_run_whose_scan_fits_the_map_poorly_learns_nothing():
+    """An estimate the map doubts (running fit below ``learn_agreement``, above ``lost_agreement``)
+    keeps the place code as it is; one it trusts learns."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    env.reset(seed=0, options={"goal": None})
+    config = AgentConfig().with_values(
+        {
+            "model.n_place": 300,
+            "exploration.place_cells_per_m2": 0.0,
+            "model.dry_run_steps": 600,
+            "localisation.learn_agreement": 0.9,
+            "localisation.lost_agreement": 0.3,
+        }
+    )
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    agent.dry_run(env)
+    obs, info = env.reset(options={"goal": None})
+    agent.reset(obs, info)
+    while not agent.pi.anchored:
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+
+    def one_step(fit: float) -> bool:
+        nonlocal obs
+        before = agent.pi.centre_mass.copy()
+        agent.localisation.fit = fit
+        action = agent.act(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        agent.observe(action, obs, reward, terminated, truncated, info)
+        assert agent.pi.anchored
+        return not np.array_equal(before, agent.pi.centre_mass)
+
+    assert not one_step(0.5)
+    assert one_step(1.0)
+
+
+def two_rooms(agent: HippocampalAgent, estimate: np.ndarray, look_alike_ring: str) -> None:
+    """Two round rooms of 2 m 10 m apart on the agent's map: the one at ``estimate`` mapped on its
+    west half only, its look-alike to the east on its west half or (``"whole"``) all round."""
+    m = agent.map
+    for angle in np.linspace(0.0, 2.0 * math.pi, 400, endpoint=False):
+        west = math.cos(angle) < 0.0
+        for centre, whole in ((estimate, False), (estimate + (10.0, 0.0), look_alike_ring == "whole")):
+            if whole or west:  # the estimate's room: only its west half is mapped
+                m.hits[m.index(centre[0] + 2.0 * math.cos(angle), centre[1] + 2.0 * math.sin(angle))] = 3
+    m.grids_replaced()
+
+
+def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
+    """Once anchored, the scan's fit to the map is followed at the estimate and at its look-alike
+    places; when one fits better by ``doubt_margin``, the robot anchors afresh, ruling out where
+    it was. One that fits as well changes nothing."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    config = AgentConfig().with_values({"model.n_place": 50})
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])  # a round room of 2 m
+    estimate = np.array([-5.0, 0.0])
+
+    def doubted(look_alike_ring: str) -> bool:
+        agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+        two_rooms(agent, estimate, look_alike_ring)
+        localisation = agent.localisation
+        agent.phase = "trial"
+        agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+        localisation.look_alikes, localisation.look_alike_fit = np.array([[10.0, 0.0]]), np.array([0.5])
+        localisation.own_fit = localisation.fit = 0.5
+        for _ in range(30):
+            localisation.check(ranges, 0.0, step=0, dry=False, just_anchored=False)
+            if not agent.pi.anchored:
+                np.testing.assert_array_equal(agent.pi.ruled_out, [estimate])
+                return True
+        assert localisation.fit > config.localisation.lost_agreement
+        return False
+
+    assert doubted("whole")  # the look-alike's room fits all round, the estimate's only half
+    assert not doubted("half")
+
+
+def test_on_anchoring_the_best_fitting_places_far_enough_away_are_picked_as_look_alikes():
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values({"model.n_place": 50}), seed=0)
+    estimate = np.array([-5.0, 0.0])
+    two_rooms(agent, estimate, "whole")
+    m = agent.map
+    for centre in (estimate, estimate + (10.0, 0.0)):  # the rooms' floors known free
+        for x in np.arange(-1.5, 1.6, m.cell):
+            for y in np.arange(-1.5, 1.6, m.cell):
+                if math.hypot(x, y) < 1.6:
+                    m.free[m.index(centre[0] + x, centre[1] + y)] = 1
+    m.grids_replaced()
+    agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+    agent.localisation.check(ring_scan(n_rays=env.observation_space["ranges"].shape[0]), 0.0, step=1, dry=False, just_anchored=True)
+    offsets = agent.localisation.look_alikes
+    assert 1 <= len(offsets) <= agent.config.localisation.look_alikes and len(offsets) == len(agent.localisation.look_alike_fit)
+    radius = agent.config.path_integration.rule_out_radius
+    assert np.all(np.hypot(*offsets.T) > radius)  # at least rule_out_radius from the estimate ...
+    assert np.linalg.norm(offsets[0] - (10.0, 0.0)) < 0.5  # ... the best the middle of the look-alike room
+    assert all(np.linalg.norm(a - b) > radius for i, a in enumerate(offsets) for b in offsets[:i])  # ... and apart
+    assert agent.pi.anchored
+
+
+@pytest.mark.parametrize(("lost_bump_rate", "facing_a_known_wall"), [(None, False), (0.15, False), (0.15, True)])
+def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate, facing_a_known_wall):
+    """Bumps where the map shows free ground mean a look-alike place: once the running mean of
+    bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
+    estimate is dropped; with ``None``, never. Bumps into a wall the map holds are explained by it
+    and do not count."""
+    env = make_env(small_maze, seed=1)
+    config = AgentConfig().with_values({"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate})
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    agent.reset(obs, info)
+    for _ in range(30):
+        action = agent.act(obs)
+        obs, _, _, _, info = env.step(action)
+        agent.observe(action, obs, 0.0, False, False, info)
+    assert agent.pi.anchored
+    heading = unpack(obs)[2]
+    bump_distance = agent.config.map.bump_distance
+    if facing_a_known_wall:  # the map holds a wall where the robot bumps
+        ahead = agent.pi.estimate + bump_distance * np.array([math.cos(heading), math.sin(heading)])
+        agent.map.hits[agent.map.index(*ahead)] = 1000
+        agent.map.grids_replaced()
+    assert agent.map.wall_near(agent.pi.estimate, heading, bump_distance) == facing_a_known_wall
+    still = {**obs, "odometry": np.zeros(2, dtype=np.float32)}  # pushing at a wall: the scan stays, the wheels slip
+    anchored = []
+    for _ in range(9):
+        agent.observe(0, still, 0.0, False, False, {"collision": True})
+        anchored.append(agent.pi.anchored)
+    expected_drop = lost_bump_rate is not None and not facing_a_known_wall
+    assert anchored == [True] * 8 + [False] if expected_drop else anchored == [True] * 9
+
+
+# ------------------------------------------------------------------ save / load
+ESTIMATE = np.array([-5.0, 0.0])
+
+
+def doubting(seed: int = 0) -> tuple[HippocampalAgent, Localisation]:
+    """A localisation that follows two look-alike places (one as good as the estimate, the west
+    half of each room mapped) and has counted a bump."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values({"model.n_place": 50}), seed=seed)
+    two_rooms(agent, ESTIMATE, "half")
+    estimate = ESTIMATE
+    agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+    localisation = agent.localisation
+    localisation.look_alikes, localisation.look_alike_fit = np.array([[10.0, 0.0], [3.0, 4.0]]), np.array([0.5, 0.1])
+    localisation.own_fit = localisation.fit = 0.5
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])
+    for step in range(3):
+        localisation.check(ranges, 0.0, step=2 * step, dry=False, just_anchored=False)
+        localisation.count_bump(step == 1)
+    assert agent.pi.anchored and 0.0 < localisation.bump_rate < 0.1
+    return agent, localisation
+
+
+def test_the_state_of_localisation_loads_into_a_fresh_one_that_doubts_the_same():
+    agent, localisation = doubting()
+    saved = localisation.state()
+    pi = copy.deepcopy(agent.pi)  # (its own belief, so that each may lose it)
+    fresh = Localisation(agent.config.localisation, agent.map, pi, agent.max_range, np.random.default_rng(5))
+    fresh.load_state(*saved)
+    same_state(fresh.state(), saved)
+    ranges = ring_scan(n_rays=agent.n_rays)
+    two_rooms(agent, ESTIMATE, "whole")  # the look-alike place's room mapped all round: it fits better ...
+    for step in range(4, 60, 2):  # ... and both doubt the estimate, at the same step
+        localisation.check(ranges, 0.0, step=step, dry=False, just_anchored=False)
+        fresh.check(ranges, 0.0, step=step, dry=False, just_anchored=False)
+        same_state(fresh.state(), localisation.state())
+        assert pi.anchored == agent.pi.anchored
+        if not pi.anchored:
+            break
+    assert not pi.anchored and len(pi.ruled_out) == 1
+
+
+@pytest.mark.parametrize(
+    "spoil",
+    [
+        lambda state, arrays: arrays.update(look_alikes=np.zeros((3, 2))),
+        lambda state, arrays: arrays.update(look_alike_fit=np.array([np.nan, 0.1])),
+        lambda state, arrays: state.update(fit="good"),
+    ],
+    ids=["lengths", "nan", "fit"],
+)
+def test_a_malformed_localisation_state_raises_value_error(spoil):
+    agent, localisation = doubting()
+    state, arrays = localisation.state()
+    state, arrays = dict(state), dict(arrays)
+    spoil(state, arrays)
+    fresh = Localisation(agent.config.localisation, agent.map, agent.pi, agent.max_range, np.random.default_rng(0))
+    with pytest.raises(ValueError):
+        fresh.load_state(state, arrays)
