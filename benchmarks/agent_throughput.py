@@ -1,36 +1,45 @@
-"""Hippocampal agent throughput: act + observe steps per second, learning on, on one core.
+"""Hippocampal agent throughput: the default model, the paper's model and RatInABox timed side by side.
 
-For each population size the agent does a short dry run, finds a fixed goal (so the reward map
-exists and every later step heads for the goal: by 8-way preplay, or, in the default model, homing
-along its map to where the goal was found; if the goal is reached with no place cell
-active there, which replays nothing, it runs again, up to ``MAX_GOAL_RUNS`` runs), then is timed alone on a recorded
-random walk of real observations: once exploiting, once exploring. One replay is timed too, and
-the memory of the place->place tensor is read off the agent. RatInABox (the ``peers`` extra) is timed
-beside it at the same cell counts: its agent moving and its place cells and BVCs updating.
+At each size of ``--cells`` (1000 place cells by default) the default model and the paper's model
+are trained in the open arena (:mod:`benchmarks.agent_timing`: a dry run, then runs until one
+finds a fixed goal and replays) and each given a recorded random walk of real observations (720
+rays). After one untimed pass of each walk, repeat by repeat, in one process on one core, each of
+these is timed once, in an order that rotates from repeat to repeat so that none is always first:
 
-``--scaling`` measures how the cost grows instead: every size of ``--scaling-cells`` and
-``--target-cells`` in a fresh process (so each row's peak resident memory is its own), with the
-time of each step split into its parts (BVC and head-direction rates, place-cell settling, path
-integration, learning, preplay; exclusive times of those methods, the rest is ``other``) and one
-replay into building the rows of ``max_k W_pp`` it reaches and the rest (spreading), the log-log slope of the cost against the number of place cells, the part that dominates at each end,
-and the issue's targets at 10,000 cells (steps/s, resident memory, one replay). It writes the
-table and a figure (``.png`` beside the JSON). RatInABox is not timed there.
+- the default model on its walk, exploiting (it knows the goal: it preplays or homes at every step), learning on;
+- the paper's model on its walk, the same way;
+- RatInABox (the ``peers`` extra): its agent moving, as many place cells and its 400 BVCs updating, no learning;
+- the default model's dry run (directed exploration) from scratch, a fresh agent each repeat,
+  the environment's own time taken out.
+
+Each repeat gives the ratios default / RatInABox and default / paper (steps/s over steps/s) and
+the time of a dry-run step over that of an exploiting step; the record holds every repeat's
+figures and each ratio's median and quartiles over the repeats (:func:`hippomaze.stats.median_and_quartiles`).
+Both programs of a ratio ran on the same load of the same machine, so the ratio holds where
+steps/s do not. The targets are in ``benchmarks/targets.toml``.
+
+``--scaling`` measures how the cost of one model (``--model``) grows instead: every size of
+``--scaling-cells`` and the targets' sizes (10,000 and 1,000 place cells) in a fresh process (so
+each row's peak resident memory is its own), best of ``--scaling-repeats``, with the time of
+each step split into its parts (BVC and head-direction rates, place-cell settling, path
+integration, learning, preplay; exclusive times of those methods, the rest is ``other``) and
+one replay into building the rows of ``max_k W_pp`` it reaches and the rest (spreading), the
+log-log slope of the cost against the number of place cells and the part that dominates at each
+end. It writes the table and a figure (``.png`` beside the JSON). RatInABox is not timed there.
 
     python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
-    python -m benchmarks.agent_throughput --cells 250 --steps 500 --out /tmp/quick.json
+    python -m benchmarks.agent_throughput --steps 300 --repeats 2 --dry-run-steps 300 --peer-steps 20 \\
+        --out /tmp/quick.json                          # a quick look
     python -m benchmarks.agent_throughput --scaling  # benchmarks/results/agent_scaling_default.json and .png
-    python -m benchmarks.agent_throughput --scaling --scaling-cells 250 500 --target-cells 1000 \\
-        --steps 200 --repeats 1 --dry-run-steps 300 --out /tmp/scaling.json   # a quick look
+    python -m benchmarks.agent_throughput --scaling --scaling-cells 250 500 --steps 200 --scaling-repeats 1 \\
+        --dry-run-steps 300 --out /tmp/scaling.json    # a quick look (the targets' sizes are added)
 """
 
 from __future__ import annotations
 
 import contextlib
-import copy
 import dataclasses
 import datetime
-import time
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -39,8 +48,8 @@ import gymnasium as gym
 import numpy as np
 
 import hippo_env
+from benchmarks.agent_timing import RatInABox, heading_for_the_goal, measure, new_agent, recorded_walk, timed_dry_run, trained, walk
 from benchmarks.common import (
-    SplitTimer,
     command_line,
     cost_growth,
     in_fresh_process,
@@ -49,277 +58,43 @@ from benchmarks.common import (
     machine_info,
     output_path,
     parse_dataclass_args,
-    peak_resident_megabytes,
-    resident_megabytes,
 )
-from hippo_agent import AgentConfig, HippocampalAgent
-from hippo_env.dmtp import rollout
+from benchmarks.records import MIN_EXPLOIT_SHARE, exploit_share, replays, scaling_figures, spread
+from benchmarks.targets import target, verdict
+from hippomaze.stats import median_and_quartiles
 
 
 @dataclass
 class Args:
-    cells: tuple[int, ...] = (250, 1000, 4000)
-    """place-cell counts to time"""
+    cells: tuple[int, ...] = (1000,)
+    """place-cell counts at which the three are timed side by side"""
     steps: int = 3_000
-    """recorded steps each timing replays"""
-    repeats: int = 3
-    """timed repeats; the best is reported (other load only slows a run down)"""
+    """recorded steps each exploiting walk replays"""
+    repeats: int = 15
+    """repeats side by side; each times every program once"""
     dry_run_steps: int = 3_000
-    """the agent's goal-free dry run before timing"""
+    """the longest dry run (the directed one ends when the arena is explored)"""
     n_rays: int = 720
     """rangefinder rays (the paper's 720)"""
     seed: int = 0
-    """seeds the environment, the agent and the recorded walk"""
-    model: str = "default"
-    """default (AgentConfig(), with path integration) or paper (AgentConfig.paper())"""
-    target: float = 10_000.0
-    """exploiting steps/s aimed for at 1000 place cells"""
-    target_x_ratinabox: float = 25.0
-    """exploiting steps/s aimed for at 1000 place cells, as a multiple of RatInABox's"""
-    target_scaling: float = 2_000.0
-    """steps/s aimed for at --target-cells, in both walks (with --scaling)"""
+    """seeds the environment, the agents and the recorded walks"""
     peer_steps: int = 500
-    """steps of RatInABox (an agent moving, its place cells and 400 BVCs updating, no learning) timed
-    per repeat at each cell count, beside the agent; 0 skips it. Needs the ``peers`` extra."""
+    """RatInABox steps timed per repeat; 0 times the two models without it. Needs the ``peers`` extra."""
     scaling: bool = False
-    """measure how the cost grows instead (see above): --scaling-cells and --target-cells, each in a fresh process"""
+    """measure how the cost of --model grows instead (see above), each size in a fresh process"""
+    model: str = "default"
+    """with --scaling: default (AgentConfig(), with path integration) or paper (AgentConfig.paper())"""
     scaling_cells: tuple[int, ...] = (250, 500, 1000, 2000, 4000, 8000, 16000)
-    """place-cell counts of the scaling table"""
-    target_cells: int = 10_000
-    """the scaling table's row checked against the targets (added to the table if missing)"""
-    target_rss_mb: float = 1_000.0
-    """peak resident memory aimed for at --target-cells (MB)"""
-    target_replay_ms: float = 100.0
-    """time of one replay aimed for at --target-cells (ms)"""
-    against: str = ""
-    """also time this model ('paper' or 'default') at each cell count, its repeats alternating with
-    --model's, exploiting: each pair's ratio of steps/s is then read on one load of the machine"""
-    against_reference: float = 17_320.0
-    """the --against model's exploiting steps/s at 1000 place cells on the machine where the targets
-    were set (17,320: the paper's model in benchmarks/results/agent_throughput.json at commit 794bf4b);
-    with --against, the median ratio times this estimates --model's steps/s there (0: no estimate)"""
+    """place-cell counts of the scaling table (the targets' sizes are added)"""
+    scaling_repeats: int = 3
+    """with --scaling: timed repeats of each walk and of the replay; the best is kept (other load only slows a run down)"""
     out: str = ""
     """where the JSON goes (relative to the repository root unless absolute); '' = benchmarks/results/
     agent_throughput.json, or with --scaling benchmarks/results/agent_scaling_<model>.json (the figure beside it)"""
 
 
-# The parts of a step, as the agent's methods (attribute path from the agent, method) whose
-# exclusive time each part is; what none of them covers (act/observe themselves, exploration,
-# unpacking the observation) is "other".
-AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
-    "bvc_hd_rates": (("bvc", "update"), ("hd", "update")),
-    "place_settle": (("place", "step"), ("place", "step_with_sense"), ("place", "settle"), ("place", "reset_state")),
-    "path_integration": (
-        ("pi", "move"),
-        ("pi", "correct"),
-        ("pi", "start_run"),
-        ("pi", "lagged_estimate"),
-        ("place", "sensory_vote"),
-        ("place", "pi_input"),
-        ("place", "learn_centres"),
-        ("place", "learn_spread"),
-    ),
-    "learning": (("place", "learn_pb"), ("place", "learn_pp"), ("place", "update_trace"), ("place", "update_hd_trace")),
-    "preplay": (("place", "imagined_values"), ("reward", "value"), ("reward", "depress")),
-}
-
-
-# Runs from the same start to find the goal before a row gives up on timing an exploiting agent.
-MAX_GOAL_RUNS = 5
-
-# The parts of one replay (``HippocampalAgent.learn_reward``); the rest is "other".
-REPLAY_TERMS: dict[str, tuple[tuple[str, str], ...]] = {"replay_weights": (("place", "replay_links"),)}
-
-
-def make_config(model: str, n_place: int, dry_run_steps: int) -> AgentConfig:
-    if model not in ("default", "paper"):
-        raise ValueError(f"model {model!r} is unknown; allowed: default, paper")
-    if model == "paper":
-        return AgentConfig.paper().with_values({"model.n_place": n_place, "model.dry_run_steps": dry_run_steps})
-    # the cost of n_place cells: no recruitment beyond them
-    return AgentConfig().with_values({"model.n_place": n_place, "model.dry_run_steps": dry_run_steps, "exploration.place_cells_per_m2": 0.0})
-
-
-def measure(n_place: int, args: Args, split: bool = False) -> dict[str, Any]:
-    """One row: the agent with ``n_place`` place cells, after its dry run and the runs that find the
-    goal and replay, timed on a recorded random walk exploiting and exploring; one replay timed;
-    its memory. With ``split``, one more (instrumented) pass of each walk splits the time of a step
-    into :data:`AGENT_TERMS` (microseconds per step)."""
-    resident_at_start = resident_megabytes()
-    env, agent, dry_run_seconds, goal_runs, run = _trained(args.model, n_place, args)
-    before_timing = copy.deepcopy(agent.reward)  # replaying again adds to the reward weights: put them back after
-    replay_from_cells = int(np.count_nonzero(agent.place.v > 0))  # replay spreads from the cells active at the goal
-    replay_ms = []
-    for _ in range(args.repeats):
-        began = time.perf_counter()
-        agent.learn_reward()
-        replay_ms.append(1e3 * (time.perf_counter() - began))
-    replay_split = _replay_split(agent) if split else None
-    agent.reward = before_timing
-    recorded = _recorded_walk(env, args)
-    row: dict[str, Any] = {"n_place": n_place, "n_bvc": agent.bvc.n}
-    for mode, exploit in (("exploiting", True), ("exploring", False)):
-        wall, cpu, stats = _timed(agent, recorded, exploit, args.repeats)
-        row[f"{mode}_steps_per_second"] = round(wall)
-        row[f"{mode}_steps_per_cpu_second"] = round(cpu)
-        row["exploit_decisions" if exploit else "explore_decisions"] = stats
-        if split:
-            row[f"{mode}_split_us_per_step"] = _split(agent, recorded, exploit)
-    w_pp_bytes = sum(a.nbytes for a in vars(agent.place).values() if isinstance(a, np.ndarray) and a.ndim == 3)
-    w_pb = getattr(agent.place, "W_pb", None)
-    row |= {
-        "replay_ms": round(min(replay_ms), 2),
-        **({} if replay_split is None else {"replay_split_ms": replay_split}),
-        "dry_run_steps_per_second": round(args.dry_run_steps / dry_run_seconds) if args.dry_run_steps else None,
-        "goal_runs": goal_runs,
-        "goal_run_steps": run.steps,
-        "found_goal": bool(run.terminated),
-        "replay_from_cells": replay_from_cells,
-        "W_pp_megabytes": round(w_pp_bytes / 2**20, 1),
-        "W_pb_megabytes": None if w_pb is None else round(w_pb.nbytes / 2**20, 1),
-        "max_rss_megabytes": round(peak_resident_megabytes() * 1e6 / 2**20, 1),  # MiB, as before
-        "peak_rss_mb": round(peak_resident_megabytes(), 1),
-        "peak_rss_above_start_mb": round(peak_resident_megabytes() - resident_at_start, 1),
-    }
-    return row
-
-
-def _trained(model: str, n_place: int, args: Args) -> tuple[gym.Env, HippocampalAgent, float, int, Any]:
-    """The environment and the ``model`` agent with ``n_place`` cells after its dry run and the runs
-    that find the goal (which replay); the dry run's seconds, the runs made and the last one."""
-    env = gym.make("HippoMaze-v0", maze="open", n_rays=args.n_rays, odometry=True)
-    env.reset(seed=args.seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, make_config(model, n_place, args.dry_run_steps), seed=args.seed)
-    began = time.perf_counter()
-    agent.dry_run(env)
-    dry_run_seconds = time.perf_counter() - began
-    agent.start_trial(0)
-    for goal_runs in range(1, MAX_GOAL_RUNS + 1):  # explore until the goal, which triggers the replay
-        observation, info = env.reset(options={"goal": [0.0, 0.0]})
-        agent.reset(observation, info)
-        run = rollout(env, agent, observation)
-        if agent.goal_rewarded:  # (a goal reached with no place cell active there teaches nothing: run again)
-            break
-    return env, agent, dry_run_seconds, goal_runs, run
-
-
-def _recorded_walk(env: gym.Env, args: Args) -> list:
-    """A random walk of ``args.steps`` steps with no goal, as (action, observation, info); closes ``env``."""
-    walk = np.random.default_rng(args.seed).integers(0, 8, args.steps)
-    recorded = []
-    observation, info = env.reset(options={"goal": None})
-    for action in walk.tolist():
-        observation, _, _, _, info = env.step(action)
-        recorded.append((action, observation, info))
-    env.close()
-    return recorded
-
-
-def alternating(n_place: int, args: Args) -> dict[str, Any]:
-    """``args.model`` and ``args.against``, each trained and given its own recorded walk as in
-    :func:`measure`, timed exploiting in alternation, ``args.repeats`` times each: the steps/s of
-    each pair, their ratios, and the median ratio (at 1000 cells and with ``args.against_reference``,
-    times it: an estimate of ``args.model`` on the machine that reference was measured on)."""
-    walks = []
-    for model in (args.model, args.against):  # (the same model twice measures the machine's noise)
-        env, agent, *_ = _trained(model, n_place, args)
-        walks.append((agent, _recorded_walk(env, args)))
-        agent.goal_rewarded = True
-    pairs = []
-    for _ in range(args.repeats):
-        pairs.append([len(recorded) / _walk(agent, recorded)[0] for agent, recorded in walks])
-    ratios = [a / b for a, b in pairs]
-    median = float(np.median(ratios))
-    return {
-        "against": args.against,
-        "steps_per_second_pairs": [[round(a), round(b)] for a, b in pairs],
-        "ratios": [round(r, 3) for r in ratios],
-        "median_ratio": round(median, 3),
-        "estimate_at_reference": round(median * args.against_reference) if args.against_reference > 0 and n_place == 1000 else None,
-    }
-
-
-@contextlib.contextmanager
-def _heading_for_the_goal(agent: HippocampalAgent, exploit: bool) -> Iterator[None]:
-    """Exploiting: the agent knows the goal (its reward map, and in the default model the place
-    where it found it), so it preplays or homes at every step. Exploring: it knows neither (the
-    remembered place is hidden for the walk, or the default model would home), so it searches as
-    in a run 1."""
-    found = agent.reward.found_count.copy()
-    agent.goal_rewarded = exploit
-    if not exploit:
-        agent.reward.found_count[:] = 0.0
-    try:
-        yield
-    finally:
-        agent.reward.found_count[:] = found
-
-
-def _timed(agent: HippocampalAgent, recorded: list, exploit: bool, repeats: int) -> tuple[float, float, dict]:
-    """Best steps/s (wall and CPU) of act + observe over the recorded walk, and the last walk's decisions."""
-    best_wall = best_cpu = 0.0
-    with _heading_for_the_goal(agent, exploit):
-        for _ in range(repeats):
-            wall, cpu = _walk(agent, recorded)
-            best_wall = max(best_wall, len(recorded) / wall)
-            best_cpu = max(best_cpu, len(recorded) / max(cpu, 1e-9))
-    return best_wall, best_cpu, dict(agent.episode_stats)
-
-
-def _walk(agent: HippocampalAgent, recorded: list) -> tuple[float, float]:
-    """Wall and CPU seconds of act + observe over the recorded walk (after a reset, untimed)."""
-    agent.reset(recorded[0][1], recorded[0][2])
-    began, began_cpu = time.perf_counter(), time.process_time()
-    for action, observation, info in recorded:
-        agent.act(observation)
-        agent.observe(action, observation, 0.0, False, False, info)
-    return time.perf_counter() - began, time.process_time() - began_cpu
-
-
-def _split(agent: HippocampalAgent, recorded: list, exploit: bool) -> dict[str, Any]:
-    """Microseconds per step in each of :data:`AGENT_TERMS` and ``other``, from one instrumented
-    walk (slightly slower than the timed ones: the shares are what to read)."""
-    with _heading_for_the_goal(agent, exploit):
-        return _split_walk(agent, recorded)
-
-
-def _split_walk(agent: HippocampalAgent, recorded: list) -> dict[str, Any]:
-    timer = SplitTimer()
-    for term, methods in AGENT_TERMS.items():
-        for owner, name in methods:
-            timer.wrap(getattr(agent, owner, None), name, term)
-    agent.reset(recorded[0][1], recorded[0][2])
-    timer.reset()  # the reset's own settling is not a step
-    began = time.perf_counter()
-    for action, observation, info in recorded:
-        agent.act(observation)
-        agent.observe(action, observation, 0.0, False, False, info)
-    total = time.perf_counter() - began
-    timer.unwrap()
-    out: dict[str, Any] = {term: round(1e6 * seconds / len(recorded), 2) for term, seconds in timer.split(total).items()}
-    out["total"] = round(1e6 * total / len(recorded), 2)
-    if timer.missing:
-        out["methods_not_found"] = timer.missing
-    return out
-
-
-def _replay_split(agent: HippocampalAgent) -> dict[str, Any]:
-    """One more (instrumented) replay, in milliseconds: building the rows of ``max_k W_pp`` it reaches
-    (:data:`REPLAY_TERMS`) and the rest ("other": spreading the activity through those rows, with
-    the replay's own buffers, and adding to the reward weights)."""
-    timer = SplitTimer()
-    for term, methods in REPLAY_TERMS.items():
-        for owner, name in methods:
-            timer.wrap(getattr(agent, owner, None), name, term)
-    began = time.perf_counter()
-    agent.learn_reward()
-    total = time.perf_counter() - began
-    timer.unwrap()
-    out: dict[str, Any] = {term: round(1e3 * seconds, 3) for term, seconds in timer.split(total).items()}
-    out["total"] = round(1e3 * total, 3)
-    if timer.missing:
-        out["methods_not_found"] = timer.missing
-    return out
+#: The programs timed side by side, in the first repeat's order.
+PROGRAMS = ("default", "paper", "ratinabox", "dry_run")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -328,56 +103,83 @@ def main(argv: list[str] | None = None) -> None:
         scaling(args)
         return
     load_at_start = load_average()
-    print(f"hippomaze agent throughput: {args.steps} recorded steps x {args.repeats} repeats, {args.n_rays} rays")
-    rows = []
-    for n_place in args.cells:
-        row = measure(n_place, args)
-        if args.against:
-            row["alternating"] = alternating(n_place, args)
-            alt = row["alternating"]
-            print(
-                f"  {n_place:5d} place cells, alternating with the {args.against} model: ratios {alt['ratios']}, median {alt['median_ratio']}"
-                + ("" if alt["estimate_at_reference"] is None else f", estimate at the reference {alt['estimate_at_reference']:,} steps/s")
-            )
-        peer = _ratinabox_steps_per_second(n_place, row["n_bvc"], args) if args.peer_steps > 0 else None
-        row["ratinabox_steps_per_second"] = None if peer is None else round(peer)
-        row["exploiting_x_ratinabox"] = None if peer is None else round(row["exploiting_steps_per_second"] / peer, 2)
-        rows.append(row)
-        print(
-            f"  {n_place:5d} place cells: exploiting {row['exploiting_steps_per_second']:7,} steps/s "
-            f"({row['exploiting_steps_per_cpu_second']:,} per CPU second), exploring {row['exploring_steps_per_second']:7,}; "
-            f"one replay {row['replay_ms']:.1f} ms; W_pp {row['W_pp_megabytes']:.1f} MB"
-            + ("" if peer is None else f"; RatInABox {peer:,.0f} steps/s ({row['exploiting_x_ratinabox']:.1f}x)")
-        )
-
-    record = {**_header(args, load_at_start), "rows": rows, "targets_1000_cells": targets_1000_cells(rows, args)}
-    if record["targets_1000_cells"] is not None:
-        print(f"  targets at 1000 place cells: {record['targets_1000_cells']}")
+    print(f"hippomaze agent throughput, side by side: {args.steps} recorded steps, {args.repeats} repeats, {args.n_rays} rays")
+    rows = [side_by_side(n_place, args) for n_place in args.cells]
+    record = {**_header(args, load_at_start), "side_by_side": rows}
     out = output_path(args.out or "benchmarks/results/agent_throughput.json")
     hippo_env.write_json(out, record)
+    for row in rows:
+        print(f"  {row['n_place']:,} place cells:")
+        for name, (key, what) in RATIOS.items():
+            summary = row["ratios"].get(key)
+            measured = None if not summary else summary["median"]
+            print(f"    {what}: {spread(summary)}; target {target(name).text(unit='x')}: {verdict(target(name).met(measured))}")
     print(f"wrote {out}")
 
 
-def targets_1000_cells(rows: list[dict[str, Any]], args: Args) -> dict[str, Any] | None:
-    """The issue's targets at 1000 place cells, exploiting: steps/s, and steps/s over RatInABox's
-    (``None`` where RatInABox was not timed); with ``--against`` and a reference, also the steps/s
-    estimated on the reference machine (:func:`alternating`). ``None`` without a 1000-cell row."""
-    row = next((r for r in rows if r["n_place"] == 1000), None)
-    if row is None:
-        return None
-    steps, ratio = row["exploiting_steps_per_second"], row.get("exploiting_x_ratinabox")
-    out = {
-        "steps_per_second": {"target": args.target, "measured": steps, "met": steps >= args.target},
-        "x_ratinabox": {
-            "target": args.target_x_ratinabox,
-            "measured": ratio,
-            "met": None if ratio is None else ratio >= args.target_x_ratinabox,
+#: The targets of the side-by-side timing: target name -> (the ratio's key in a row, what it is).
+RATIOS = {
+    "agent_vs_ratinabox": ("default_x_ratinabox", "default / RatInABox, steps/s"),
+    "default_vs_paper": ("default_x_paper", "default / paper's model, steps/s"),
+    "dry_run_step": ("dry_run_step_x_exploiting_step", "a dry-run step / an exploiting step, time"),
+}
+
+
+def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
+    """The default model, the paper's model, RatInABox and the default model's dry run at ``n_place``
+    place cells, timed in turn, ``args.repeats`` times: every repeat's steps/s, the ratios per
+    repeat, and their medians and quartiles."""
+    walks, shares = {}, {}
+    for model in ("default", "paper"):
+        env, agent, _, _ = trained(model, n_place, args.dry_run_steps, args.n_rays, args.seed)
+        walks[model] = (agent, recorded_walk(env, args.steps, args.seed))
+    peer = RatInABox(n_place, walks["default"][0].bvc.n) if args.peer_steps > 0 else None
+    programs = [p for p in PROGRAMS if p != "ratinabox" or peer is not None]
+    repeats = []
+    with contextlib.ExitStack() as stack:
+        for agent, recorded in walks.values():
+            stack.enter_context(heading_for_the_goal(agent, exploit=True))
+            walk(agent, recorded)  # untimed: the first pass compiles and fills caches
+        if peer is not None:
+            peer.seconds(min(args.peer_steps, 10))
+        for r in range(args.repeats):
+            order = programs[r % len(programs) :] + programs[: r % len(programs)]
+            figures: dict[str, Any] = {"order": order}
+            for program in order:
+                if program in walks:
+                    agent, recorded = walks[program]
+                    figures[program] = round(len(recorded) / walk(agent, recorded)[0], 1)
+                    shares.setdefault(program, []).append(exploit_share(agent.episode_stats))
+                elif program == "ratinabox":
+                    figures["ratinabox"] = round(args.peer_steps / peer.seconds(args.peer_steps), 2)
+                else:
+                    env, fresh = new_agent("default", n_place, args.dry_run_steps, args.n_rays, args.seed)
+                    steps, seconds = timed_dry_run(env, fresh)
+                    env.close()
+                    figures |= {"dry_run": round(steps / seconds, 1), "dry_run_steps": steps}
+            repeats.append(figures)
+            print(
+                f"  {n_place:,} place cells, repeat {r + 1}/{args.repeats}: " + ", ".join(f"{p} {figures[p]:,} steps/s" for p in order),
+                flush=True,
+            )
+    per_repeat = {
+        "default_x_paper": [f["default"] / f["paper"] for f in repeats],
+        "dry_run_step_x_exploiting_step": [f["default"] / f["dry_run"] for f in repeats],
+    }
+    if peer is not None:
+        per_repeat["default_x_ratinabox"] = [f["default"] / f["ratinabox"] for f in repeats]
+    return {
+        "n_place": n_place,
+        "n_bvc": walks["default"][0].bvc.n,
+        "n_rays": args.n_rays,
+        "ratinabox_timed": peer is not None,
+        "exploit_share": {model: round(min(s), 3) for model, s in shares.items()},
+        "repeats": repeats,
+        "steps_per_second": {p: median_and_quartiles([f[p] for f in repeats], 1) for p in programs},
+        "ratios": {
+            key: {"per_repeat": [round(v, 4) for v in values], **median_and_quartiles(values)} for key, values in per_repeat.items()
         },
     }
-    estimate = row.get("alternating", {}).get("estimate_at_reference")
-    if estimate is not None:
-        out["steps_per_second_at_reference"] = {"target": args.target, "estimated": estimate, "met": estimate >= args.target}
-    return out
 
 
 def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:
@@ -391,10 +193,16 @@ def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:
 
 
 # ============================================================================ scaling
+def target_sizes() -> tuple[int, int]:
+    """The numbers of place cells the scaling targets are read at: the one measured, and the one its speed is compared with."""
+    speed = target("scaling_speed")
+    return int(speed["place_cells"]), int(speed["against_place_cells"])
+
+
 def scaling_table(args: Args, fresh_process: bool = True) -> dict[str, Any]:
-    """The scaling table (every size of ``args.scaling_cells`` and ``args.target_cells``, smallest
-    first, each with its split), its slopes, the dominant part at each end, and the targets."""
-    sizes = sorted(set(args.scaling_cells) | {args.target_cells})
+    """The scaling table (every size of ``args.scaling_cells`` and the targets' sizes, smallest
+    first, each with its split), its slopes and the dominant part at each end."""
+    sizes = sorted(set(args.scaling_cells) | set(target_sizes()))
     rows = []
     for n_place in sizes:
         row = in_fresh_process(measure, n_place, args, True) if fresh_process else measure(n_place, args, split=True)
@@ -403,7 +211,7 @@ def scaling_table(args: Args, fresh_process: bool = True) -> dict[str, Any]:
         print(
             f"  {n_place:6d} place cells: exploiting {row['exploiting_steps_per_second']:7,} steps/s, exploring "
             f"{row['exploring_steps_per_second']:7,}; replay {row['replay_ms']:8.1f} ms; peak RSS {row['peak_rss_mb']:7.0f} MB; "
-            f"largest part {_largest(split)}; exploited on {exploit_share(row):.0%} of the exploiting walk"
+            f"largest part {_largest(split)}; exploited on {exploit_share(row['exploit_decisions']):.0%} of the exploiting walk"
             + (
                 ""
                 if replays(row)
@@ -411,7 +219,7 @@ def scaling_table(args: Args, fresh_process: bool = True) -> dict[str, Any]:
             ),
             flush=True,
         )
-    return {"rows": rows, "growth": growth(rows), "targets": targets(rows, args)}
+    return {"rows": rows, "growth": growth(rows)}
 
 
 def growth(rows: list[dict[str, Any]]) -> dict[str, Any]:
@@ -433,45 +241,6 @@ def growth(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-# An "exploiting" walk in which the agent mostly fell back to exploring does not measure exploiting.
-MIN_EXPLOIT_SHARE = 0.5
-
-
-def exploit_share(row: dict[str, Any]) -> float:
-    """The share of the exploiting walk's steps on which the agent headed for the goal (preplay, or
-    homing along its map, chose the move)."""
-    decisions = row["exploit_decisions"]
-    goal_directed = decisions["exploit"] + decisions.get("home", 0)
-    return goal_directed / max(goal_directed + decisions["explore"], 1)
-
-
-def replays(row: dict[str, Any]) -> bool:
-    """Whether the row's replay did anything: a run found the goal and some place cell was active there."""
-    return row.get("found_goal", True) and row.get("replay_from_cells", 1) > 0
-
-
-def targets(rows: list[dict[str, Any]], args: Args) -> dict[str, Any]:
-    """The issue's targets at ``args.target_cells`` place cells, against that row. They are not
-    measured when run 1 never found the goal (no replay to time) or the agent hardly exploited."""
-    row = next((r for r in rows if r["n_place"] == args.target_cells), None)
-    if row is None:
-        return {"n_place": args.target_cells, "measured": False}
-    if not replays(row) or exploit_share(row) < MIN_EXPLOIT_SHARE:
-        why = (
-            f"found the goal: {row.get('found_goal')} (in {row.get('goal_runs')} runs), with {row.get('replay_from_cells')} place cells active there to replay "
-            f"from; the exploiting walk exploited on {exploit_share(row):.0%} of its steps"
-        )
-        return {"n_place": args.target_cells, "measured": False, "why": why}
-    slowest = min(row["exploiting_steps_per_second"], row["exploring_steps_per_second"])
-    return {
-        "n_place": args.target_cells,
-        "measured": True,
-        "steps_per_second": {"target": args.target_scaling, "slowest_walk": slowest, "met": slowest >= args.target_scaling},
-        "peak_rss_mb": {"target": args.target_rss_mb, "measured": row["peak_rss_mb"], "met": row["peak_rss_mb"] < args.target_rss_mb},
-        "replay_ms": {"target": args.target_replay_ms, "measured": row["replay_ms"], "met": row["replay_ms"] < args.target_replay_ms},
-    }
-
-
 def _largest(split: dict[str, Any]) -> str:
     parts = {t: v for t, v in split.items() if t != "total" and isinstance(v, float | int)}
     return max(parts, key=parts.get)
@@ -480,7 +249,7 @@ def _largest(split: dict[str, Any]) -> str:
 def scaling(args: Args) -> None:
     load_at_start = load_average()
     print(
-        f"hippomaze agent scaling ({args.model} model): {args.steps} recorded steps x {args.repeats} repeats, "
+        f"hippomaze agent scaling ({args.model} model): {args.steps} recorded steps x {args.scaling_repeats} repeats, "
         f"{args.n_rays} rays, dry run {args.dry_run_steps} steps; each size in a fresh process"
     )
     table = scaling_table(args)
@@ -497,7 +266,12 @@ def scaling(args: Args) -> None:
     if "replay" in table["growth"]:
         g = table["growth"]["replay"]
         print(f"  replay: {g['verdict']}; largest part {g['dominant_at_smallest']} (smallest) -> {g['dominant_at_largest']} (largest)")
-    print(f"  targets at {args.target_cells:,} place cells: {table['targets']}")
+    figures = scaling_figures(record)
+    if figures["measured"]:
+        for name, key in (("scaling_speed", "speed_ratio"), ("scaling_memory_mb", "peak_rss_mb"), ("scaling_replay_ms", "replay_ms")):
+            print(f"  {target(name).what}: {figures[key]} (target {target(name).text()}: {verdict(target(name).met(figures[key]))})")
+    else:
+        print(f"  the targets at {figures['n_place']:,} place cells are not measured: {figures['why']}")
     print(f"wrote {out} and {figure}")
 
 
@@ -515,15 +289,18 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
     ax = axes[0, 0]
     for mode, marker in (("exploiting", "o"), ("exploring", "s")):
         ax.plot(n, [r[f"{mode}_steps_per_second"] for r in rows], marker=marker, label=mode)
-    idle = [i for i, r in enumerate(rows) if exploit_share(r) < MIN_EXPLOIT_SHARE]
+    idle = [i for i, r in enumerate(rows) if exploit_share(r["exploit_decisions"]) < MIN_EXPLOIT_SHARE]
     if idle:
         ax.plot(
             n[idle], [rows[i]["exploiting_steps_per_second"] for i in idle], "rx", ms=10, label="hardly exploited: not an exploiting figure"
         )
     anchor = rows[-1]["exploiting_steps_per_second"]
     ax.plot(n, anchor * n[-1] / n, "k:", label="cost proportional to n (slope -1)")
-    ax.axhline(args.target_scaling, color="r", ls="--", lw=1, label=f"target {args.target_scaling:,.0f} steps/s")
-    ax.axvline(args.target_cells, color="grey", lw=0.8)
+    (at, against), speed = target_sizes(), target("scaling_speed").bound()
+    if against in n:
+        floor = speed * min(rows[list(n).index(against)][f"{m}_steps_per_second"] for m in ("exploiting", "exploring"))
+        ax.axhline(floor, color="r", ls="--", lw=1, label=f"target: {speed:g}x the slower walk at {against:,} cells")
+    ax.axvline(at, color="grey", lw=0.8)
     ax.set(xscale="log", yscale="log", xlabel="place cells", ylabel="steps / s (best of repeats)", title=f"agent ({args.model} model)")
     ax.legend(fontsize=8)
 
@@ -534,8 +311,10 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
         ax.plot(n, [r["W_pb_megabytes"] * 2**20 / 1e6 for r in rows], "^-", label="W_pb (BVC->place)")
     ax.plot(n, rows[-1]["peak_rss_mb"] * n / n[-1], "k:", label="proportional to n")
     ax.plot(n, rows[-1]["W_pp_megabytes"] * 2**20 / 1e6 * (n / n[-1]) ** 2, "k-.", lw=0.8, label="proportional to n^2")
-    ax.axhline(args.target_rss_mb, color="r", ls="--", lw=1, label=f"target {args.target_rss_mb:,.0f} MB")
-    ax.axvline(args.target_cells, color="grey", lw=0.8)
+    ax.axhline(
+        target("scaling_memory_mb").bound(), color="r", ls="--", lw=1, label=f"target {target('scaling_memory_mb').text(unit=' MB')}"
+    )
+    ax.axvline(at, color="grey", lw=0.8)
     ax.set(xscale="log", yscale="log", xlabel="place cells", ylabel="MB", title="memory")
     ax.legend(fontsize=8)
 
@@ -562,37 +341,15 @@ def plot_scaling(table: dict[str, Any], args: Args, path: Path) -> None:
         last = replayed[-1]["replay_ms"]
         ax.plot(n_replayed, last * n_replayed / n_replayed[-1], "k:", label="proportional to n")
         ax.plot(n_replayed, last * (n_replayed / n_replayed[-1]) ** 2, "k-.", lw=0.8, label="proportional to n^2")
-    ax.axhline(args.target_replay_ms, color="r", ls="--", lw=1, label=f"target {args.target_replay_ms:g} ms")
-    ax.axvline(args.target_cells, color="grey", lw=0.8)
+    ax.axhline(
+        target("scaling_replay_ms").bound(), color="r", ls="--", lw=1, label=f"target {target('scaling_replay_ms').text(unit=' ms')}"
+    )
+    ax.axvline(at, color="grey", lw=0.8)
     ax.set(xscale="log", yscale="log", xlabel="place cells", ylabel="ms", title="replay after the goal is found")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
-
-
-def _ratinabox_steps_per_second(n_place: int, n_bvc: int, args: Args) -> float | None:
-    """Best steps/s of RatInABox updating an agent, ``n_place`` place cells and ``n_bvc`` BVCs in a
-    10 m arena (its defaults otherwise; it does not learn), or None if it is not installed."""
-    try:
-        from ratinabox.Agent import Agent
-        from ratinabox.Environment import Environment
-        from ratinabox.Neurons import BoundaryVectorCells, PlaceCells
-    except ImportError:
-        print("  RatInABox is not installed (pip install -e .[peers]): not timed")
-        return None
-    environment = Environment(params={"scale": 10.0, "dimensionality": "2D"})
-    rat = Agent(environment)  # its default time step: a longer one makes its random motion diverge
-    cells = [BoundaryVectorCells(rat, params={"n": n_bvc}), PlaceCells(rat, params={"n": n_place})]
-    best = 0.0
-    for _ in range(args.repeats):
-        began = time.perf_counter()
-        for _ in range(args.peer_steps):
-            rat.update()
-            for population in cells:
-                population.update()
-        best = max(best, args.peer_steps / (time.perf_counter() - began))
-    return best
 
 
 if __name__ == "__main__":

@@ -29,9 +29,9 @@ the agent never does) and measures, per maze:
   run's end, median over trials, and a figure of the curves beside the JSON (``.coverage.png``).
 - ``--oracle`` (PRIVILEGED, a ceiling for diagnosis only): the same agent whose path-integration
   estimate is replaced by the true position at every step (exact self-localisation), with the
-  doubt about look-alike places off (``localisation.look_alikes = 0``), which would re-anchor an
-  estimate that cannot be wrong: in maze4 (2 trials, seed 0) it fired 19,386 times, a look-alike
-  place fitting the agent's own map better than the true position.
+  doubt about look-alike places off (``localisation.look_alikes = 0``): a look-alike place can fit the
+  agent's own map better than the true position, and the doubt would then re-anchor an estimate
+  that cannot be wrong.
 
 ``python -m benchmarks.diagnose --maze maze2 --trials 10 --seed 0`` prints the figures and writes
 ``benchmarks/results/diagnose/<maze>[-paper|-oracle].json``.
@@ -55,7 +55,7 @@ from hippo_agent.faculties.path_integration import PathIntegrator
 from hippo_env.dmtp import run_dmtp
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
-from hippomaze.paper.statistics import spearman
+from hippomaze.stats import median_or_none, spearman
 
 TWIN_PATH = 2.0  # m by path: farther than this, a look-alike is a twin
 TWIN_COSINE = 0.5
@@ -147,10 +147,8 @@ class Watcher:
             agent.pi.__class__ = OracleIntegrator  # (in place: the faculties hold the same integrator)
         self.run = -1
         self.in_dry_run = False
-        self.dry_pi_errors: list[float] = []
-        self.dry_positions: list[
-            np.ndarray
-        ] = []  # the true positions of the dry run, for its coverage  # the dry run's (its frame starts where the robot stands)
+        self.dry_pi_errors: list[float] = []  # the dry run's (its frame starts where the robot stands)
+        self.dry_positions: list[np.ndarray] = []  # the dry run's true positions, for its coverage
         self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
         self.anchor_steps: list[int] = []
         self.progress: list[float] = []
@@ -323,10 +321,6 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
     ind = result.indirectness()
     ok = result.success()
 
-    def med(values: list[Any]) -> float | None:
-        values = [v for v in values if v is not None and math.isfinite(v)]
-        return float(np.median(values)) if values else None
-
     later = ind[:, 1:]
     coverage = [coverage_curve(spec, np.array(w.dry_positions)) for w in watchers if w.dry_positions]
     run_errors = [e for w in watchers for e in w.pi_errors]
@@ -346,30 +340,30 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
         "trials": args.trials,
         "seed": args.seed,
         "config": config.to_dict(),
-        "indirectness_median_per_run": [med(list(ind[:, r])) for r in range(ind.shape[1])],
-        "runs_2_4_median": med(list(later.ravel())),
+        "indirectness_median_per_run": [median_or_none(list(ind[:, r])) for r in range(ind.shape[1])],
+        "runs_2_4_median": median_or_none(list(later.ravel())),
         "runs_2_4_reached": float(ok[:, 1:].mean()),
         "runs_2_4_below_1": float((later < 1).mean()),
-        "twins": med([t.get("twins") for t in per_trial]),
-        "twins_bvc": med([t.get("twins_bvc") for t in per_trial]),
-        "similarity_across_walls": med([t.get("across_walls") for t in per_trial]),
-        "reward_map_coverage": med([t["coverage"] for t in per_trial]),
-        "reward_map_spearman": med([t["spearman"] for t in per_trial]),
-        "replay_reach_median_m": [med([r[i][0] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
-        "replay_reach_p90_m": [med([r[i][1] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
+        "twins": median_or_none([t.get("twins") for t in per_trial]),
+        "twins_bvc": median_or_none([t.get("twins_bvc") for t in per_trial]),
+        "similarity_across_walls": median_or_none([t.get("across_walls") for t in per_trial]),
+        "reward_map_coverage": median_or_none([t["coverage"] for t in per_trial]),
+        "reward_map_spearman": median_or_none([t["spearman"] for t in per_trial]),
+        "replay_reach_median_m": [median_or_none([r[i][0] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
+        "replay_reach_p90_m": [median_or_none([r[i][1] for r in reach if i < len(r)]) for i in range(min(n_iter, 8))],
         "preplay_progress": float(np.mean(all_progress)) if all_progress else None,
         "exploit_fallback_share": (explore / later_steps) if later_steps else None,
         "home_share": (home / later_steps) if later_steps else None,
         "exploit_bumps_per_step": (sum(w.exploit_bumps for w in watchers) / exploit) if exploit else None,
-        "pi_error_median_m": med(run_errors),
+        "pi_error_median_m": median_or_none(run_errors),
         "pi_error_p90_m": float(np.quantile(run_errors, 0.9)) if run_errors else None,
-        "pi_error_dry_run_median_m": med([e for w in watchers for e in w.dry_pi_errors]),
+        "pi_error_dry_run_median_m": median_or_none([e for w in watchers for e in w.dry_pi_errors]),
         "runs_misplaced_share": float(np.mean(misplaced)) if misplaced else None,
-        "anchor_steps_median": med([float(s) for w in watchers for s in w.anchor_steps]),
-        "dry_run_steps_median": med([float(c.size) for c in coverage]),
-        "dry_run_coverage_steps_to_80": med([steps_to(c, 0.8) for c in coverage]),
-        "dry_run_coverage_steps_to_95": med([steps_to(c, 0.95) for c in coverage]),
-        "dry_run_coverage_at_end": med([float(c[-1]) for c in coverage]),
+        "anchor_steps_median": median_or_none([float(s) for w in watchers for s in w.anchor_steps]),
+        "dry_run_steps_median": median_or_none([float(c.size) for c in coverage]),
+        "dry_run_coverage_steps_to_80": median_or_none([steps_to(c, 0.8) for c in coverage]),
+        "dry_run_coverage_steps_to_95": median_or_none([steps_to(c, 0.95) for c in coverage]),
+        "dry_run_coverage_at_end": median_or_none([float(c[-1]) for c in coverage]),
         "env_steps_total": result.env_steps_total,
         "per_trial": per_trial,
     }

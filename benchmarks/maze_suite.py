@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
-from hippo_env.files import finite_or_none
+from hippomaze.stats import median_counting_misses, pearson_with_ci
 
 BUILT_IN = ("open", "maze1", "maze2", "maze3", "maze4")
 # (kind, maze seed, arena side in m)
@@ -119,7 +119,7 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
         "median_per_run": summary["median_indirectness"],
         "runs_2_4_median": float(np.nanmedian(later)),
         # the issue's measure: a run that never reached the goal counts as infinitely indirect
-        "runs_2_4_median_miss_inf": finite_or_none(float(np.median(np.where(ok[:, 1:], later, np.inf)))),
+        "runs_2_4_median_miss_inf": median_counting_misses(np.where(ok[:, 1:], later, np.inf).ravel()),
         "runs_2_4_reached": float(ok[:, 1:].mean()),
         "dry_run_steps_median": float(np.median(result.dry_run_steps)),
         "place_cells": sorted(set(place_cells)),
@@ -135,8 +135,6 @@ def one(model: str, maze: str, seed: int, trials: int, dry_run_steps: int, confi
 def pool_seeds(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Per maze, every seed's trials together: the run-1 length vs run-2 indirectness correlation
     (Pearson r with a 95 % bootstrap interval over trials; the paper's Fig. 6 gives r = -0.53)."""
-    from hippomaze.paper.statistics import pearson_with_ci
-
     out: dict[str, dict[str, Any]] = {}
     for maze in dict.fromkeys(r["maze"] for r in rows):
         mine = [r for r in rows if r["maze"] == maze]

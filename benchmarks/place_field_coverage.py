@@ -3,7 +3,8 @@
 For each maze a fresh agent does its goal-free dry run; then the place cells' steady-state rates
 are sampled on a grid over the free space (``env.unwrapped.observation_at``). Coverage is the
 share of grid points where at least one place cell fires; a cell's field is the share of the
-arena where it fires (rate > 0) and where it fires above half its peak.
+arena where it fires (rate > 0) and where it fires above half its peak. Each maze's figures are
+printed beside the targets (``benchmarks/targets.toml``).
 
     python benchmarks/place_field_coverage.py   # writes benchmarks/results/place_field_coverage.json
 """
@@ -18,6 +19,7 @@ import numpy as np
 
 import hippo_env  # registers HippoMaze-v0
 from benchmarks.common import command_line, machine_info, output_path, parse_dataclass_args
+from benchmarks.targets import target, verdict
 from hippo_agent import HippocampalAgent
 from hippo_agent.plots import grid_positions
 from hippo_env.physics import ROBOT_RADIUS
@@ -65,8 +67,11 @@ def main(argv: list[str] | None = None) -> None:
                 "median_cells_active_per_point": float(np.median(active.sum(axis=1))),
             }
         )
+        coverage, size = target("place_field_coverage"), target("place_field_size")
         print(
-            f"  {maze}: coverage {rows[-1]['coverage']:.1%}, {fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena"
+            f"  {maze}: coverage {rows[-1]['coverage']:.1%} (target {coverage.text()}: {verdict(coverage.met(rows[-1]['coverage']))}), "
+            f"{fired.sum()} cells with a field, median field {np.median(field_share):.2%} of the arena "
+            f"(target {size.text()}: {verdict(size.met(rows[-1]['median_field_share_of_arena']))})"
         )
         env.close()
 
@@ -75,7 +80,6 @@ def main(argv: list[str] | None = None) -> None:
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "args": asdict(args),
         "machine": machine_info(numpy=np.__version__),
-        "targets": {"coverage": ">= 0.90", "median_field_share_of_arena": "< 0.10"},
         "rows": rows,
     }
     out = output_path(args.out)

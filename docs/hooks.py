@@ -1,106 +1,62 @@
 """mkdocs hooks: the measured figures on the site come from ``benchmarks/results`` at build time.
 
 - A page line ``<!-- results: NAME -->`` becomes the table ``NAME`` below, made from the committed
-  JSON; no measured figure is typed into a page.
+  JSON (read by :mod:`benchmarks.records`) and the targets (``benchmarks/targets.toml``, read by
+  :mod:`benchmarks.targets`); no measured figure or target is typed into a page or in here.
 - A page may show a figure from ``benchmarks/results`` as ``results/PATH.png``; it is taken from
   there when the site is built (no copy in ``docs/``).
 - The page ``changelog.md`` is the repository's ``CHANGELOG.md``.
 - ``<!-- animation -->`` shows ``docs/img/animate.gif`` (written by ``hippomaze animate``) if it
   exists.
 
-Tolerant by design: a file that is missing or laid out differently gives a note on the page, not
-a failed build.
+Strict by design: a results file that is missing, or laid out otherwise than its table reads it,
+fails the build (:class:`~benchmarks.records.RecordError`, raised to mkdocs as a ``PluginError``),
+so that a lost table cannot go unnoticed. A record written before its benchmark timed what its
+table shows says so on the page ("not measured yet").
 """
 
 from __future__ import annotations
 
-import json
-import logging
-import math
 import re
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from mkdocs.structure.files import File
-
-log = logging.getLogger("mkdocs.hooks.results")
-
 ROOT = Path(__file__).resolve().parent.parent
-RESULTS = ROOT / "benchmarks" / "results"
+if str(ROOT) not in sys.path:  # benchmarks/ is repository code, not installed
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks import records
+from benchmarks.records import RecordError, num, pct, spread, table
+from benchmarks.targets import target, verdict
+
+RESULTS = records.RESULTS
 MARKER = re.compile(r"^<!-- results: ([a-z0-9_]+) -->$", re.MULTILINE)
 FIGURE = re.compile(r"\]\((?:\.\./)*results/([\w./-]+\.(?:png|gif|svg))\)")
 
-# Issue 21's targets for the default model (they are targets, not measurements).
-INDIRECTNESS_TARGET = {"open": 0.3, "maze1": 0.4, "maze2": 0.7, "maze3": 0.7, "maze4": 1.5}
-GENERATED_TARGET = 1.0  # runs 2-4 median indirectness in every generated maze
-REACHED_TARGET = 0.95  # of runs 2-4 reach the goal (generated mazes)
-DEFAULT_SPEED_TARGET = 8000  # steps/s of the default model at 1000 place cells
-MODEL_NAMES = {"paper": "paper's model", "default": "default model"}
-
-
-# ------------------------------------------------------------------ formatting
-
-
-def num(value: Any, digits: int = 2) -> str:
-    """A figure as the docs print it: thousands separated, ``digits`` decimals below 100."""
-    if value is None:
-        return "-"
-    if isinstance(value, str):
-        return value
-    if isinstance(value, float) and math.isinf(value):
-        return "inf"
-    if isinstance(value, float) and (abs(value) < 100 and value != int(value)):
-        return f"{value:.{digits}f}"
-    return f"{round(value):,}"
-
-
-def pct(share: float | None) -> str:
-    return "-" if share is None else f"{100 * share:.0f} %"
-
-
-def table(header: list[str], rows: list[list[Any]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(str(cell) for cell in row) + " |" for row in rows]
-    return "\n".join(lines)
-
 
 def load(name: str) -> Any:
-    return json.loads((RESULTS / name).read_text())
+    return records.load(name, RESULTS)
 
 
 def source(*names: str) -> str:
-    """The line under a table that says where its figures come from."""
+    """The line under a table that says where its figures come from, with the commands that made them."""
     commands = []
     for name in names:
-        try:
-            commands.append(f"`{load(name)['command']}`")
-        except (OSError, KeyError, ValueError):
-            pass
+        data = load(name)
+        if "command" not in data:
+            raise RecordError(f"benchmarks/results/{name} does not say the command that made it")
+        commands.append(f"`{data['command']}`")
     files = ", ".join(f"`benchmarks/results/{name}`" for name in names)
-    return f"\n\n*From {files}" + (f", made by {'; '.join(commands)}" if commands else "") + ".*"
+    return f"\n\n*From {files}, made by {'; '.join(commands)}.*"
+
+
+def not_measured_yet(what: str, command: str) -> str:
+    return f'!!! note "Not measured yet"\n    {what} Run `{command}` to measure it.'
 
 
 # ------------------------------------------------------------------ the maze suite
-
-
-def maze_size(name: str) -> float:
-    match = re.search(r"-(\d+)m$", name)
-    return float(match.group(1)) if match else 10.0
-
-
-def dry_run_target(name: str) -> float | None:
-    """Issue 21: open <= 1,500 steps, other built-in mazes <= 2,500, a 5 x 5 perfect maze in a 10 m
-    arena <= 5,000, a 20 m arena <= 6,000."""
-    if name == "open":
-        return 1500
-    if name in INDIRECTNESS_TARGET:
-        return 2500
-    if name.startswith("gen-perfect") and maze_size(name) == 10:
-        return 5000
-    if name.startswith("gen-arena") and maze_size(name) == 20:
-        return 6000
-    return None
 
 
 def suite_rows(name: str) -> tuple[dict[str, list[dict[str, Any]]], list[int]]:
@@ -119,26 +75,26 @@ def median_cell(row: dict[str, Any] | None) -> str:
 
 def maze_suite() -> str:
     by_maze, seeds = suite_rows("maze_suite_default.json")
+    indirectness, reached, dry_run = target("indirectness"), target("reached"), target("dry_run_length")
     header = ["maze"] + [f"seed {s}" for s in seeds] + ["target", "dry run (steps)", "dry-run target", "place cells", "verdict"]
     rows, met = [], 0
     for maze, found in by_maze.items():
         per_seed = {row["seed"]: row for row in found}
-        builtin = maze in INDIRECTNESS_TARGET
-        target = INDIRECTNESS_TARGET.get(maze, GENERATED_TARGET)
-        ok = all(row["runs_2_4_median_miss_inf"] <= target and (builtin or row["runs_2_4_reached"] >= REACHED_TARGET) for row in found)
-        dry_target = dry_run_target(maze)
+        ok = all(indirectness.met(records.later_runs_median(row), maze) is not False for row in found)
+        ok = ok and all(reached.met(row["runs_2_4_reached"], maze) is not False for row in found)
         dry = [per_seed[s]["dry_run_steps_median"] for s in seeds if s in per_seed]
-        ok_dry = dry_target is None or all(d <= dry_target for d in dry)
+        ok_dry = all(dry_run.met(d, maze) is not False for d in dry)
         cells = sorted({c for row in found for c in row.get("place_cells", [])})
         missed = [what for what, good in (("indirectness", ok), ("dry run", ok_dry)) if not good]
         met += not missed
+        goal = indirectness.text(maze) + ("" if reached.bound(maze) is None else f", {reached.op} {pct(reached.bound(maze))} reached")
         rows.append(
             [
                 maze,
                 *(median_cell(per_seed.get(s)) for s in seeds),
-                f"<= {target}" + ("" if builtin else ", >= 95 % reached"),
+                goal,
                 " / ".join(num(d) for d in dry),
-                "-" if dry_target is None else f"<= {num(dry_target)}",
+                dry_run.text(maze),
                 "-".join(num(c) for c in (cells[0], cells[-1]) if cells) if len(cells) > 1 else num(cells[0] if cells else None),
                 "met" if not missed else "**missed** (" + ", ".join(missed) + ")",
             ]
@@ -227,61 +183,78 @@ def paper_verdicts() -> str:
 
 
 def agent_throughput() -> str:
-    rows = []
-    for model, name in (("paper's model", "agent_throughput.json"), ("default model", "agent_throughput_default.json")):
-        data = load(name)
-        targets = data["targets_1000_cells"]
-        speed, ratio = targets["steps_per_second"], targets["x_ratinabox"]
-        rows.append(
-            [
-                model,
-                f"{num(speed['measured'])} (target {num(speed['target'])}: {'met' if speed['met'] else '**missed**'})",
-                f"{num(ratio['measured'])}x (target {num(ratio['target'])}x: {'met' if ratio['met'] else '**missed**'})",
-            ]
+    """The speed ratios timed side by side (``benchmarks.agent_throughput``), with their targets."""
+    data = load("agent_throughput.json")
+    names = ("agent_vs_ratinabox", "default_vs_paper", "dry_run_step")
+    keys = {
+        "agent_vs_ratinabox": "default_x_ratinabox",
+        "default_vs_paper": "default_x_paper",
+        "dry_run_step": "dry_run_step_x_exploiting_step",
+    }
+    sizes = sorted({target(name)["place_cells"] for name in names} | {row["n_place"] for row in data.get("side_by_side", [])})
+    rows, speeds = [], []
+    for n_place in sizes:
+        row = records.side_by_side(data, n_place)
+        if row is None:
+            continue
+        cells: list[Any] = [num(n_place), len(row["repeats"])]
+        for name in names:
+            summary = row["ratios"].get(keys[name])
+            goal = target(name)
+            measured = summary["median"] if summary else None
+            shown = "not timed" if summary is None else spread(summary)
+            cells.append(
+                f"{shown}; target {goal.text(unit='x')}: {verdict(goal.met(measured))}" if goal["place_cells"] == n_place else shown
+            )
+        rows.append(cells)
+        s = row["steps_per_second"]
+        speeds.append(
+            f"{num(n_place)} place cells: default {num(s['default']['median'])}, paper's model {num(s['paper']['median'])}"
+            + (f", RatInABox {num(s['ratinabox']['median'])}" if "ratinabox" in s else "")
+            + f"; the default model's dry run {num(s['dry_run']['median'])} (its own time, the environment's taken out)"
         )
-    data = load("agent_throughput_default.json")
-    default = data["targets_1000_cells"]["steps_per_second"]["measured"]
-    note = f"\n\nIssue 21 asked the default model for {num(DEFAULT_SPEED_TARGET)} steps/s: " + (
-        "met." if default >= DEFAULT_SPEED_TARGET else f"**missed** ({num(default)}) on this machine."
-    )
-    alternating = next((r["alternating"] for r in data["rows"] if r["n_place"] == 1000 and "alternating" in r), None)
-    if alternating is not None and alternating["estimate_at_reference"] is not None:
-        estimate = alternating["estimate_at_reference"]
-        ratios = alternating["ratios"]
-        note += (
-            f" Timed in alternation with the {MODEL_NAMES[alternating['against']]} (`--against {alternating['against']}`), pair by pair"
-            f" on one load of the machine, it ran {min(ratios):.2f}-{max(ratios):.2f} times as fast (median"
-            f" {alternating['median_ratio']:.3f}, {len(ratios)} pairs); times that model's"
-            f" {num(data['args']['against_reference'])} steps/s on the machine where the targets were set, about"
-            f" {num(estimate)} there: {'met' if estimate >= DEFAULT_SPEED_TARGET else '**missed**'}."
+    if not rows:
+        return not_measured_yet(
+            "`benchmarks/results/agent_throughput.json` was written before the models and RatInABox were timed side by side.",
+            "python -m benchmarks.agent_throughput",
         )
-    return (
-        table(["agent, 1000 place cells, 720 rays, learning on", "steps/s exploiting", "x RatInABox"], rows)
-        + note
-        + source("agent_throughput.json", "agent_throughput_default.json")
+    header = [
+        "place cells",
+        "repeats",
+        "default / RatInABox (steps/s)",
+        "default / paper's model (steps/s)",
+        "dry-run step / exploiting step (time)",
+    ]
+    note = (
+        "\n\nMedians over the repeats (quartiles in brackets) of ratios timed in turn on one load of one machine. Steps/s there (medians): "
+        + "; ".join(speeds)
+        + "."
     )
+    return table(header, rows) + note + source("agent_throughput.json")
 
 
 def agent_scaling() -> str:
     rows = []
+    names = (("scaling_speed", "speed_ratio", "x"), ("scaling_memory_mb", "peak_rss_mb", " MB"), ("scaling_replay_ms", "replay_ms", " ms"))
     for model, name in (("paper's model", "agent_scaling_paper.json"), ("default model", "agent_scaling_default.json")):
         data = load(name)
-        t = data["targets"]
-
-        def verdict(entry: dict[str, Any], measured: str, unit: str) -> str:
-            return f"{num(entry[measured])} {unit} (target {num(entry['target'])}: {'met' if entry['met'] else '**missed**'})"
-
-        growth = data["growth"]["exploiting"]["verdict"]
-        rows.append(
-            [
-                model,
-                verdict(t["steps_per_second"], "slowest_walk", "steps/s"),
-                verdict(t["peak_rss_mb"], "measured", "MB"),
-                verdict(t["replay_ms"], "measured", "ms"),
-                growth,
-            ]
-        )
-    header = ["agent at 10,000 place cells", "steps/s (slowest walk)", "peak memory", "one replay", "step time against cells"]
+        figures = records.scaling_figures(data)
+        if not figures["measured"]:
+            rows.append([model, *(f"not measured ({figures['why']})" for _ in names), data["growth"]["exploiting"]["verdict"]])
+            continue
+        cells = [
+            f"{num(figures[key])}{unit} (target {target(t).text(unit=unit)}: {verdict(target(t).met(figures[key]))})"
+            for t, key, unit in names
+        ]
+        rows.append([model, *cells, data["growth"]["exploiting"]["verdict"]])
+    speed = target("scaling_speed")
+    header = [
+        f"agent at {num(speed['place_cells'])} place cells",
+        f"steps/s over its own at {num(speed['against_place_cells'])} (the slower walk)",
+        "peak memory",
+        "one replay",
+        "step time against cells",
+    ]
     return table(header, rows) + source("agent_scaling_paper.json", "agent_scaling_default.json")
 
 
@@ -339,10 +312,12 @@ def env_throughput() -> str:
     rays = sorted({r for v in by_maze.values() for r in v})
     rows = [[maze, *(num(v.get(r)) for r in rays)] for maze, v in by_maze.items()]
     text = table(["maze"] + [f"{r} rays (steps/s)" for r in rays], rows)
-    peer = data.get("peer") or {}
-    if peer.get("timed"):
+    peer = records.env_peer(data)
+    goal = target("env_vs_pointmaze")
+    if peer is not None:
         text += (
-            f"\n\nAt 720 rays the slowest maze runs at {peer['min_x_peer_720_rays']}x Gymnasium-Robotics' `{peer['name']}` timed beside it."
+            f"\n\nAt 720 rays, timed interleaved with Gymnasium-Robotics' `{peer['name']}`, the slowest maze ({peer['slowest_maze']})"
+            f" ran {num(peer['slowest'])}x as fast (target {goal.text(unit='x')}: {verdict(goal.met(peer['slowest']))})."
         )
     load_note = data.get("machine", {}).get("load_average_at_start")
     if load_note:
@@ -403,7 +378,7 @@ def coverage() -> str:
 def diagnose() -> str:
     rows, names = [], []
     for path in sorted((RESULTS / "diagnose").glob("*.json")):
-        d = json.loads(path.read_text())
+        d = load(f"diagnose/{path.name}")
         names.append(f"diagnose/{path.name}")
         rows.append(
             [
@@ -429,7 +404,9 @@ def diagnose() -> str:
         "reward map covers",
         "dry run",
     ]
-    commands = sorted({f"`{json.loads((RESULTS / n).read_text())['command']}`" for n in names})
+    if not rows:
+        raise RecordError("benchmarks/results/diagnose/ holds no record (run python -m benchmarks.diagnose)")
+    commands = sorted({f"`{load(n)['command']}`" for n in names})
     return table(header, rows) + f"\n\n*From `benchmarks/results/diagnose/*.json`, made by {'; '.join(commands)}.*"
 
 
@@ -454,16 +431,20 @@ TABLES: dict[str, Callable[[], str]] = {
 
 
 def render(name: str) -> str:
-    """The table ``name``, or a note saying why it cannot be shown."""
+    """The table ``name``.
+
+    Raises:
+        RecordError: a results file it reads is missing or not laid out as the table reads it.
+        ValueError: no table is called ``name``.
+    """
     if name not in TABLES:
         raise ValueError(f"docs: unknown results table {name!r}; known: {', '.join(TABLES)}")
     try:
         return TABLES[name]()
-    except (OSError, KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as err:
-        log.info("results table %s not made: %r", name, err)
-        return (
-            f'!!! note "Not available"\n    The table `{name}` could not be made from `benchmarks/results` ({type(err).__name__}: {err}).'
-        )
+    except RecordError as err:
+        raise RecordError(f"the results table {name!r} cannot be made: {err}") from err
+    except (KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as err:
+        raise RecordError(f"the results table {name!r} cannot be made from benchmarks/results ({type(err).__name__}: {err})") from err
 
 
 # ------------------------------------------------------------------ mkdocs events
@@ -471,6 +452,8 @@ def render(name: str) -> str:
 
 def on_files(files: Any, config: Any) -> Any:
     """Add the figures that pages take from ``benchmarks/results`` to the site, as ``results/...``."""
+    from mkdocs.structure.files import File
+
     wanted: set[str] = set()
     for page in Path(config["docs_dir"]).rglob("*.md"):
         wanted.update(FIGURE.findall(page.read_text()))
@@ -483,7 +466,12 @@ def on_files(files: Any, config: Any) -> Any:
 
 
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
-    markdown = MARKER.sub(lambda match: render(match.group(1)), markdown)
+    from mkdocs.exceptions import PluginError
+
+    try:
+        markdown = MARKER.sub(lambda match: render(match.group(1)), markdown)
+    except (RecordError, ValueError) as err:
+        raise PluginError(f"{page.file.src_uri}: {err}") from err
     gif = Path(config["docs_dir"]) / "img" / "animate.gif"
     depth = "../" * page.file.src_uri.count("/")
     animation = (

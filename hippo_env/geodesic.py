@@ -14,21 +14,38 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
 
-from hippo_env.geometry import CHUNK, Point, segment_distance, signed_area
-
-if TYPE_CHECKING:
-    from hippo_env.maze import MazeSpec
+from hippo_env.geometry import CHUNK, Point, Polygon, segment_distance, signed_area
 
 # Points placed around each convex corner of an inflated obstacle: an arc every 15 degrees
 # keeps the polygonal path within 2 mm of the true rounded one for a 0.17 m robot.
 ARC_STEP = math.radians(15.0)
 # Visibility segments may graze an inflated obstacle by this much (chords of those arcs).
 GRAZE = 3e-3
+
+
+class Walls(Protocol):
+    """What a shortest path needs of a maze (a :class:`~hippo_env.maze.MazeSpec` is one): this
+    module reads a maze through these alone, so it does not import the maze's module."""
+
+    @property
+    def obstacles(self) -> Sequence[Polygon]:
+        """The obstacles, each a simple polygon."""
+        ...
+
+    @property
+    def segments(self) -> np.ndarray:
+        """Every wall as a segment ``(x0, y0, x1, y1)``: the arena's four walls first, then the obstacles' edges."""
+        ...
+
+    def clearances(self, points: Any) -> np.ndarray:
+        """Each point's distance to the nearest wall; negative inside an obstacle or outside the arena."""
+        ...
 
 
 class VisibilityGraph:
@@ -40,7 +57,7 @@ class VisibilityGraph:
     In an open arena a length is the straight line.
     """
 
-    def __init__(self, maze: MazeSpec, radius: float) -> None:
+    def __init__(self, maze: Walls, radius: float) -> None:
         self.radius = float(radius)
         self.walls = maze.segments[4:]  # the obstacles' edges (the arena's four walls come first)
         self.nodes = np.asarray(_corner_nodes(maze, self.radius)).reshape(-1, 2)
@@ -67,7 +84,7 @@ class VisibilityGraph:
         return _dijkstra(lengths, 0, 1)
 
 
-def _corner_nodes(maze: MazeSpec, radius: float) -> list[np.ndarray]:
+def _corner_nodes(maze: Walls, radius: float) -> list[np.ndarray]:
     """Points on an arc of ``radius`` around every convex corner, those clear of every wall (by 3 mm grace)."""
     candidates = []
     margin = radius * (1 + 1e-6)

@@ -321,7 +321,7 @@ def _env_argument(text: str) -> tuple[str, Any]:
 
 def run_paper_command(args: argparse.Namespace) -> int:
     """Reproduce the paper's experiments (hippomaze.paper): the model's figures and tables, written
-    with REPORT.md and paper.json into --out. --quick runs every experiment briefly (about a minute)."""
+    with REPORT.md and paper.json into --out. --quick runs every experiment briefly."""
     from hippomaze.paper import PaperArgs, run_paper
 
     run_paper(PaperArgs(out=args.out, quick=args.quick, seed=args.seed, workers=args.workers, model=args.model))

@@ -1,11 +1,16 @@
 """What a recorded run says about itself: its command line from a dataclass (CleanRL style), the
-command that ran it, and the machine it ran on (a shared machine skews wall-clock rates)."""
+command that ran it, the machine it ran on (a shared machine skews wall-clock rates), and which
+code ran (digests of the packages' source)."""
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
+import hashlib
+import importlib.util
 import itertools
+import json
 import os
 import platform
 import shlex
@@ -40,6 +45,37 @@ def cpu_vector_flags() -> list[str] | None:
         return None
     flags = next((line.split(":", 1)[1].split() for line in cpuinfo.read_text().splitlines() if line.startswith("flags")), [])
     return [f for f in _VECTOR_FLAGS if f in flags]
+
+
+#: The packages whose code decides what a simulated run does: the environment, the model and the
+#: baselines (the repository's ``baselines/``, installed as ``hippomaze.baselines``).
+SIMULATION_PACKAGES = ("hippo_env", "hippo_agent", "hippomaze.baselines")
+
+
+def source_digest(packages: tuple[str, ...] = ("hippo_agent", "hippo_env"), suffixes: tuple[str, ...] = (".py",)) -> dict[str, str]:
+    """SHA-256 of each package's files ending in ``suffixes`` (paths and contents, in path order), by
+    package name: which code ran, whatever its version number says. A package that is not
+    installed is left out."""
+    digests = {}
+    for package in packages:
+        spec = importlib.util.find_spec(package)
+        if spec is None or not spec.submodule_search_locations:
+            continue
+        root = Path(next(iter(spec.submodule_search_locations)))
+        h = hashlib.sha256()
+        for path in sorted(p for p in root.rglob("*") if p.suffix in suffixes and "__pycache__" not in p.parts):
+            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+        digests[package] = h.hexdigest()
+    return digests
+
+
+@functools.cache
+def code_fingerprint() -> str:
+    """One digest of the code and data of :data:`SIMULATION_PACKAGES` (their ``.py`` and ``.json``
+    files, the built-in mazes among them), computed once per process: records made with another
+    fingerprint were made by other code."""
+    digests = source_digest(SIMULATION_PACKAGES, (".py", ".json"))
+    return hashlib.sha256(json.dumps(digests, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def load_average() -> list[float] | None:

@@ -10,7 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from hippomaze.bench import references, report, stats
+from hippomaze import stats
+from hippomaze.bench import references, report
 from hippomaze.bench.summary import ALL
 from hippomaze.cli import main
 

@@ -71,6 +71,87 @@ def test_imports_point_one_way():
     assert not against, "imports against the layer order:\n" + "\n".join(against)
 
 
+def _module_level_imports(module: str, path: Path, known: set[str]) -> set[str]:
+    """The project modules ``path`` imports outside any function or class body (``if TYPE_CHECKING``
+    and ``try`` blocks included): ``from a import b`` names ``a.b`` where that is a module, else ``a``."""
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    found: set[str] = set()
+
+    def visit(nodes: list[ast.stmt]) -> None:
+        for node in nodes:
+            if isinstance(node, ast.Import):
+                found.update(alias.name for alias in node.names if alias.name in known)
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    anchor = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                    base = ".".join([*anchor, base] if base else anchor)
+                for alias in node.names:
+                    name = f"{base}.{alias.name}"
+                    found.update({name} if name in known else {base} & known)
+            elif not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                for field in ("body", "orelse", "finalbody", "handlers"):
+                    visit([n for n in getattr(node, field, []) if isinstance(n, (ast.stmt, ast.ExceptHandler))])
+
+    visit(ast.parse(path.read_text(), str(path)).body)
+    return found - {module}
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected parts of ``graph`` with more than one module (Tarjan's algorithm)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                part.append(w)
+                if w == v:
+                    break
+            if len(part) > 1:
+                found.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_module_imports_in_a_circle():
+    """No project module imports, at module level (type-checking imports included), a module that
+    imports it back, directly or through others: each layer's modules form a tree, not a knot."""
+    modules = dict(_modules())
+    graph = {module: _module_level_imports(module, path, set(modules)) for module, path in modules.items()}
+    assert graph["hippo_env.maze"] >= {"hippo_env.geodesic", "hippo_env.geometry"}  # the graph sees imports
+    assert not _cycles(graph), "modules that import each other in a circle: " + "; ".join(" <-> ".join(c) for c in _cycles(graph))
+
+
+def test_the_circle_test_sees_a_circle(tmp_path):
+    """A circle made only of ``if TYPE_CHECKING`` imports is still a circle."""
+    (tmp_path / "a.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from pkg.b import B\n")
+    (tmp_path / "b.py").write_text("from pkg import a\n\ndef f():\n    from pkg import c\n")
+    (tmp_path / "c.py").write_text("import pkg.b\n")
+    known = {"pkg.a", "pkg.b", "pkg.c"}
+    graph = {f"pkg.{n}": _module_level_imports(f"pkg.{n}", tmp_path / f"{n}.py", known) for n in "abc"}
+    assert graph == {"pkg.a": {"pkg.b"}, "pkg.b": {"pkg.a"}, "pkg.c": {"pkg.b"}}  # b's import inside f is not at module level
+    assert _cycles(graph) == [["pkg.a", "pkg.b"]]
+
+
 def test_importing_runs_nothing():
     """Importing any module parses no arguments, prints nothing and starts no experiment."""
     modules = [m for m, _ in _modules() if not m.endswith("__main__")]

@@ -19,7 +19,7 @@ from hippomaze.paper.design import SCENARIOS, trial_seed
 from hippomaze.paper.figures import FIGURES
 from hippomaze.paper.geometry import geodesic_to, grid_for
 from hippomaze.paper.procedures import drive_scripted, make_env, replay_at
-from hippomaze.paper.statistics import spearman
+from hippomaze.stats import spearman
 
 VERDICTS = {"reproduced", "partly", "not reproduced", "met", "not met"}
 

@@ -16,6 +16,7 @@ import pytest
 from hippomaze.baselines import RandomAgent
 
 from benchmarks.sample_efficiency import cli
+from hippomaze import runinfo
 from hippomaze.bench import jobs, metrics, report
 
 # only the runs of DQN and PPO need stable-baselines3: the analysis tests run without it
@@ -168,6 +169,31 @@ def test_the_dry_run_counts_for_any_agent():
 
 
 @needs_sb3
+def test_a_record_made_by_other_code_is_not_reused():
+    """The job cache keys on the code as well as the config: a record whose code fingerprint is not
+    today's (or that has none) is run again, even when its job and config are the same."""
+    job = jobs.make_job("random", "open", 0, protocol="learner", budget=100, switch_budget=0, trials=1, runs=1)
+    made = {"date": "2026-01-01T00:00:00", "versions": jobs.versions(), "code": runinfo.code_fingerprint()}
+    record = jobs.JobRecord(job.spec(), job.name, False, {}, agent_config=jobs.current_config(job), made=made)
+    assert jobs.reusable(record, job)
+    assert not jobs.reusable(dataclasses.replace(record, made={**made, "code": "0" * 16}), job)
+    assert not jobs.reusable(dataclasses.replace(record, made=None), job)  # made before the fingerprint was kept
+
+
+def test_the_code_fingerprint_follows_the_source(tmp_path, monkeypatch):
+    """:func:`hippomaze.runinfo.source_digest` changes with a file's content, and only then."""
+    package = tmp_path / "fingerprinted"
+    package.mkdir()
+    (package / "__init__.py").write_text("X = 1\n")
+    (package / "maze.json").write_text("{}")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    first, code_only = runinfo.source_digest(("fingerprinted",), (".py", ".json")), runinfo.source_digest(("fingerprinted",))
+    assert runinfo.source_digest(("fingerprinted",), (".py", ".json")) == first
+    (package / "maze.json").write_text('{"size": [10, 10]}')
+    assert runinfo.source_digest(("fingerprinted",), (".py", ".json")) != first
+    assert runinfo.source_digest(("fingerprinted",)) == code_only  # the .py files alone are unchanged
+
+
 def test_ray_and_local_pool_give_the_same_records(quick, tmp_path):
     ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e .[ray]")
     out, _ = quick

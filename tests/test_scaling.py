@@ -4,7 +4,6 @@ tables' shape, the split of a step into parts, the slopes. Nothing here asserts 
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import json
 import math
@@ -14,7 +13,7 @@ import time
 import numpy as np
 import pytest
 
-from benchmarks import agent_throughput, env_throughput
+from benchmarks import agent_throughput, agent_timing, env_throughput, records, targets
 from benchmarks.common import SplitTimer, cost_growth, growth_verdict, in_fresh_process, log_log_slope
 from hippo_env.dmtp import rollout
 
@@ -110,34 +109,36 @@ def test_env_scaling_table_tiny(tmp_path):
 
 
 def test_agent_scaling_table_tiny(tmp_path, monkeypatch):
-    monkeypatch.setattr(agent_throughput, "rollout", functools.partial(rollout, max_steps=100))  # run 1 need not find the goal
-    args = agent_throughput.Args(scaling_cells=(40,), target_cells=80, steps=20, repeats=1, dry_run_steps=20, peer_steps=0)
+    monkeypatch.setattr(agent_timing, "rollout", functools.partial(rollout, max_steps=100))  # run 1 need not find the goal
+    monkeypatch.setattr(agent_throughput, "target_sizes", lambda: (80, 40))  # not the targets' 10,000 cells
+    args = agent_throughput.Args(scaling_cells=(40,), steps=20, scaling_repeats=1, dry_run_steps=20, peer_steps=0)
     table = agent_throughput.scaling_table(args, fresh_process=False)
     assert [r["n_place"] for r in table["rows"]] == [40, 80]
     for row in table["rows"]:
         for mode in ("exploiting", "exploring"):
             split = row[f"{mode}_split_us_per_step"]
-            assert set(agent_throughput.AGENT_TERMS) | {"other", "total"} <= set(split)
+            assert set(agent_timing.AGENT_TERMS) | {"other", "total"} <= set(split)
             assert "methods_not_found" not in split, split.get("methods_not_found")
             assert row[f"{mode}_steps_per_second"] > 0
         assert row["exploring_split_us_per_step"]["preplay"] == 0.0  # exploring never preplays
         assert row["replay_ms"] >= 0 and row["peak_rss_mb"] > 0
         assert {"replay_weights", "other", "total"} <= set(row["replay_split_ms"])
         assert "methods_not_found" not in row["replay_split_ms"]
+        assert row["dry_run_steps"] == 20 and row["dry_run_agent_steps_per_second"] >= row["dry_run_steps_per_second"] > 0
     growth = table["growth"]
-    assert growth["exploiting"]["dominant_at_largest"] in (*agent_throughput.AGENT_TERMS, "other")
+    assert growth["exploiting"]["dominant_at_largest"] in (*agent_timing.AGENT_TERMS, "other")
     assert "replay" not in growth and growth["replay_ms_slope"] is None  # run 1 was cut short: nothing replayed
-    assert table["targets"]["n_place"] == 80  # measured or, as here (run 1 cut short), not, saying why
-    assert table["targets"]["measured"] or "why" in table["targets"]
+    figures = records.scaling_figures(table)  # the targets' sizes (10,000 and 1,000) are not in this table
+    assert not figures["measured"] and "why" in figures
     agent_throughput.plot_scaling(table, args, tmp_path / "agent.png")
     assert (tmp_path / "agent.png").stat().st_size > 0
     json.dumps(table)  # the record is plain JSON
 
 
-def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
-    args = agent_throughput.Args(target_cells=100)
+def test_agent_targets_are_read_only_on_a_walk_that_exploited():
+    at, against = agent_throughput.target_sizes()
     row = {
-        "n_place": 100,
+        "n_place": at,
         "exploiting_steps_per_second": 3000,
         "exploring_steps_per_second": 2500,
         "exploit_decisions": {"explore": 10, "exploit": 90, "bumps": 0, "replays": 0},
@@ -145,57 +146,65 @@ def test_agent_targets_are_judged_only_on_a_walk_that_exploited():
         "peak_rss_mb": 1200.0,
         "replay_ms": 50.0,
     }
-    judged = agent_throughput.targets([row], args)
-    assert judged["measured"]
-    assert judged["steps_per_second"] == {"target": args.target_scaling, "slowest_walk": 2500, "met": 2500 >= args.target_scaling}
-    assert not judged["peak_rss_mb"]["met"] and judged["replay_ms"]["met"]
-    explored = {**row, "exploit_decisions": {"explore": 90, "exploit": 10, "bumps": 0, "replays": 0}}
-    assert not agent_throughput.targets([explored], args)["measured"]
-    assert "10%" in agent_throughput.targets([explored], args)["why"]
-    assert not agent_throughput.targets([{**row, "found_goal": False}], args)["measured"]
-    assert not agent_throughput.targets([{**row, "replay_from_cells": 0}], args)["measured"]
-    assert agent_throughput.targets([row], agent_throughput.Args(target_cells=7)) == {"n_place": 7, "measured": False}
-
-
-def test_agent_targets_at_1000_cells_judge_the_exploiting_walk_and_the_ratio_to_ratinabox():
-    args = agent_throughput.Args()
-    row = {"n_place": 1000, "exploiting_steps_per_second": 10_500, "exploring_steps_per_second": 13_000, "exploiting_x_ratinabox": 24.9}
-    judged = agent_throughput.targets_1000_cells([row], args)
-    assert judged["steps_per_second"] == {"target": 10_000.0, "measured": 10_500, "met": True}
-    assert judged["x_ratinabox"] == {"target": 25.0, "measured": 24.9, "met": False}
-    assert agent_throughput.targets_1000_cells([{**row, "exploiting_x_ratinabox": None}], args)["x_ratinabox"]["met"] is None
-    assert agent_throughput.targets_1000_cells([{**row, "n_place": 250}], args) is None
-    assert "steps_per_second_at_reference" not in judged  # no alternating timing, no estimate
-    alternated = {**row, "alternating": {"estimate_at_reference": 7_900}}
-    assert agent_throughput.targets_1000_cells([alternated], agent_throughput.Args(target=8_000))["steps_per_second_at_reference"] == {
-        "target": 8_000,
-        "estimated": 7_900,
-        "met": False,
+    smaller = {**row, "n_place": against, "exploiting_steps_per_second": 9000, "exploring_steps_per_second": 10_000}
+    figures = records.scaling_figures({"rows": [smaller, row]})
+    assert figures == {
+        "n_place": at,
+        "against_n_place": against,
+        "measured": True,
+        "speed_ratio": round(2500 / 9000, 3),
+        "peak_rss_mb": 1200.0,
+        "replay_ms": 50.0,
     }
+    assert not targets.target("scaling_memory_mb").met(figures["peak_rss_mb"])
+    explored = {**row, "exploit_decisions": {"explore": 90, "exploit": 10, "bumps": 0, "replays": 0}}
+    for bad in (explored, {**row, "found_goal": False}, {**row, "replay_from_cells": 0}):
+        assert not records.scaling_figures({"rows": [smaller, bad]})["measured"]
+    assert "no row" in records.scaling_figures({"rows": [row]})["why"]
 
 
-def test_alternating_timing_pairs_the_two_models_repeat_by_repeat(monkeypatch):
-    monkeypatch.setattr(agent_throughput, "rollout", functools.partial(rollout, max_steps=50))  # run 1 need not find the goal
-    args = agent_throughput.Args(steps=20, repeats=3, dry_run_steps=20, peer_steps=0, model="default", against="paper")
-    alt = agent_throughput.alternating(40, args)
-    assert alt["against"] == "paper" and len(alt["steps_per_second_pairs"]) == 3 and len(alt["ratios"]) == 3
-    for (ours, theirs), ratio in zip(alt["steps_per_second_pairs"], alt["ratios"], strict=True):
-        assert ours > 0 and theirs > 0 and ratio == pytest.approx(ours / theirs, rel=0.01)
-    assert alt["median_ratio"] == sorted(alt["ratios"])[1]
-    assert alt["estimate_at_reference"] is None  # (an estimate only for the 1000-cell row the reference was measured at)
-    with pytest.raises(ValueError, match="allowed: default, paper"):
-        agent_throughput.alternating(40, dataclasses.replace(args, against="fast"))
+def test_side_by_side_times_every_program_in_turn_repeat_by_repeat(monkeypatch):
+    monkeypatch.setattr(agent_timing, "rollout", functools.partial(rollout, max_steps=50))  # run 1 need not find the goal
+    args = agent_throughput.Args(steps=20, repeats=3, dry_run_steps=20, peer_steps=0)
+    row = agent_throughput.side_by_side(40, args)
+    assert len(row["repeats"]) == 3 and not row["ratinabox_timed"]
+    assert [r["order"] for r in row["repeats"]] == [
+        ["default", "paper", "dry_run"],
+        ["paper", "dry_run", "default"],
+        ["dry_run", "default", "paper"],
+    ]
+    for repeat, ratio in zip(row["repeats"], row["ratios"]["default_x_paper"]["per_repeat"], strict=True):
+        assert repeat["default"] > 0 and repeat["paper"] > 0 and repeat["dry_run_steps"] == 20
+        assert ratio == pytest.approx(repeat["default"] / repeat["paper"], rel=1e-3)
+    for key in ("default_x_paper", "dry_run_step_x_exploiting_step"):
+        summary = row["ratios"][key]
+        assert summary["n"] == 3 and summary["median"] == pytest.approx(sorted(summary["per_repeat"])[1], abs=1e-3)
+        assert summary["quartiles"][0] <= summary["median"] <= summary["quartiles"][1]
+    assert "default_x_ratinabox" not in row["ratios"]
+    json.dumps(row)
+
+
+def test_side_by_side_times_ratinabox_beside_the_models(monkeypatch):
+    pytest.importorskip("ratinabox", reason="the peers extra: pip install -e .[peers]")
+    monkeypatch.setattr(agent_timing, "rollout", functools.partial(rollout, max_steps=50))
+    args = agent_throughput.Args(steps=20, repeats=2, dry_run_steps=20, peer_steps=3)
+    row = agent_throughput.side_by_side(40, args)
+    assert row["ratinabox_timed"] and all(r["ratinabox"] > 0 for r in row["repeats"])
+    assert row["ratios"]["default_x_ratinabox"]["per_repeat"] == pytest.approx(
+        [r["default"] / r["ratinabox"] for r in row["repeats"]], rel=1e-3
+    )
 
 
 def test_the_exploring_walk_hides_the_remembered_place_so_the_default_model_searches():
     """The default model homes to where it found the goal whether or not its reward map is on:
     the exploring walk hides that place (and puts it back after), so it times a run 1's search."""
-    args = agent_throughput.Args(steps=30, repeats=1, dry_run_steps=30, peer_steps=0)
-    env, agent, *_ = agent_throughput._trained("default", 60, args)
-    recorded = agent_throughput._recorded_walk(env, args)
+    env, agent, *_ = agent_timing.trained("default", 60, dry_run_steps=30, n_rays=720, seed=0)
+    recorded = agent_timing.recorded_walk(env, 30, seed=0)
     agent.homing.remember(np.zeros(2))  # (whether or not run 1 found the goal)
     place = agent.homing.remembered().copy()
     for exploit in (False, True):
-        *_, decisions = agent_throughput._timed(agent, recorded, exploit, 1)
+        with agent_timing.heading_for_the_goal(agent, exploit):
+            agent_timing.walk(agent, recorded)
+            decisions = dict(agent.episode_stats)
         assert (decisions["home"] > 0) == exploit, decisions
         assert np.array_equal(agent.homing.remembered(), place)

@@ -15,7 +15,7 @@ references, and measures:
 A learner lives one long trial per seed within a step budget; a one-shot agent (the hippocampal
 model) gets fresh-agent trials, each a replicate, a seed's figure the median over them
 (:mod:`hippomaze.bench.jobs`). Over seeds: IQM with stratified-bootstrap intervals, probability of
-improvement and performance profiles, by rliable (:mod:`hippomaze.bench.stats`). The references
+improvement and performance profiles, by rliable (:mod:`hippomaze.stats`). The references
 (hippo, hippo-paper, DQN, PPO, random) are shipped results (:mod:`hippomaze.bench.references`),
 so neither torch nor stable-baselines3 is needed to compare with them.
 

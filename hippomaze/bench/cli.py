@@ -63,7 +63,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "--quick",
         action="store_true",
         help=f"smaller defaults for a first look: {QUICK['seeds']} seeds, a {QUICK['budget']:,}-step budget "
-        f"(one-shot: {QUICK['trials']} trials of {QUICK['runs']} runs); a few minutes for a random agent on 2 cores",
+        f"(one-shot: {QUICK['trials']} trials of {QUICK['runs']} runs)",
     )
     p.add_argument("--label", default="", help="the agent's name in the table and figure (default: the --agent text)")
     p.add_argument(

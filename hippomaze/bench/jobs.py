@@ -30,6 +30,7 @@ import numpy as np
 from hippo_env.files import atomic_write
 from hippomaze.bench.ledger import Ledger, ProgressFile
 from hippomaze.bench.metrics import SWITCH_WINDOW, replicates, steps_to_criterion
+from hippomaze.runinfo import code_fingerprint
 
 #: The protocols a job can follow (see the module docstring).
 PROTOCOLS = ("learner", "one-shot")
@@ -128,8 +129,9 @@ class JobRecord:
     fields with the runs as columns (under ``episodes``, the dmtp.json key), and the step ledger:
     ``prepare_steps`` (the dry run's steps, one entry per agent created), ``cut_steps`` (a run cut by
     the step budget); ``learn`` adds ``direct_at`` (steps to
-    criterion on the first goal, or None), ``switch`` adds ``old_goal``. ``made``: the date and the
-    package versions (:func:`versions`) of the run.
+    criterion on the first goal, or None), ``switch`` adds ``old_goal``. ``made``: the date, the
+    package versions (:func:`versions`) and the code's fingerprint
+    (:func:`hippomaze.runinfo.code_fingerprint`) of the run.
     """
 
     job: dict[str, Any]  # Job.spec()
@@ -139,7 +141,7 @@ class JobRecord:
     agent_config: dict[str, Any] | None = None
     switch: dict[str, Any] | None = None  # absent from the JSON when there was no goal-switch trial
     seconds: float = 0.0
-    made: dict[str, Any] | None = None  # when and with which versions the job ran (absent from older records)
+    made: dict[str, Any] | None = None  # when, with which versions and which code the job ran (absent from older records)
 
     def to_dict(self) -> dict[str, Any]:
         record = {"job": self.job, "name": self.name, "privileged": self.privileged, "learn": self.learn, "agent_config": self.agent_config}
@@ -219,7 +221,7 @@ def run_job(job: Job, progress_file: str | None = None) -> JobRecord:
     )  # fmt: skip
     record = JobRecord(job.spec(), job.name, job.agent in PRIVILEGED, _columns(learn, [m.dry_run_steps for m in made]))
     record.agent_config = agent_config(made[-1].agent)
-    record.made = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "versions": versions()}
+    record.made = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "versions": versions(), "code": code_fingerprint()}
     record.learn["direct_at"] = steps_to_criterion(replicates(record.learn)[-1:], window=SWITCH_WINDOW)
     if job.switch_budget > 0 and learn.run_records and record.learn["direct_at"] is not None:
         agent = made[-1]
@@ -295,9 +297,12 @@ def current_config(job: Job) -> dict[str, Any] | None:
 
 
 def reusable(record: JobRecord | None, job: Job) -> TypeGuard[JobRecord]:
-    """Whether a record on disk stands for ``job``: made by the same job and, for a built-in agent,
-    with today's defaults (an agent named ``module:Class`` is taken to be unchanged)."""
-    if record is None or record.job != job.spec():
+    """Whether a record on disk stands for ``job``: made by the same job, by today's code (the same
+    :func:`~hippomaze.runinfo.code_fingerprint` of the environment, the model and the baselines; a
+    record without one was made before it was kept, so by code that may have changed) and, for a
+    built-in agent, with today's defaults (the code of an agent named ``module:Class`` is taken to
+    be unchanged)."""
+    if record is None or record.job != job.spec() or (record.made or {}).get("code") != code_fingerprint():
         return False
     return job.agent not in CONFIGURED_AGENTS or record.agent_config == current_config(job)
 

@@ -4,7 +4,7 @@ A replicate (one-shot: a trial; learner: its one trial) is *direct* from x on wh
 runs from its run in progress at x on have >= 90 % successes and median indirectness <= 1.0,
 the one in progress being a direct success itself; its *steps to criterion* are the first run
 start from which it is, and a seed's are the median over its replicates. The statistics over
-seeds (IQM, intervals) are :mod:`hippomaze.bench.stats`'.
+seeds (IQM, intervals) are :mod:`hippomaze.stats`'.
 """
 
 from __future__ import annotations
@@ -14,6 +14,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from hippomaze.stats import median_counting_misses
 
 
 @dataclass
@@ -105,9 +107,7 @@ def replicate_steps_to_criterion(rep: Replicate, window: int) -> float | None:
 
 def steps_to_criterion(reps: list[Replicate], window: int) -> float | None:
     """A seed's steps to criterion: the median over its replicates (hippo: its trials), None if that is never."""
-    steps = [replicate_steps_to_criterion(r, window) for r in reps]
-    median = float(np.median([math.inf if s is None else s for s in steps]))
-    return median if math.isfinite(median) else None
+    return median_counting_misses(replicate_steps_to_criterion(r, window) for r in reps)
 
 
 def switch_cost(phase: dict[str, Any], window: int) -> tuple[int | None, int | None]:

@@ -2,8 +2,8 @@
 
 One JSON file per variant in ``hippomaze/bench/reference_results/`` (package data, in the wheel), each a
 :class:`~hippomaze.bench.summary.VariantResult` with ``made``: the command that wrote it, when,
-and, per job record it was made from, the command, date and package versions of the run (or, for
-records older than that bookkeeping, what is known of them). They are regenerated from a
+and, per job record it was made from, the command, date, package versions and code fingerprint of
+the run (or, for records older than that bookkeeping, what is known of them). They are regenerated from a
 checkout with::
 
     python -m benchmarks.sample_efficiency --out benchmarks/results --write-references

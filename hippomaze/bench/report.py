@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from hippomaze.bench.stats import Interval
 from hippomaze.bench.summary import ALL, Comparison, Reached, VariantResult
+from hippomaze.stats import Interval
 
 
 def fmt_steps(value: float | None, budget: int | None) -> str:

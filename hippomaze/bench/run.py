@@ -21,7 +21,7 @@ from hippo_env.files import write_json
 from hippomaze.bench.jobs import default_protocol, make_job, versions
 from hippomaze.bench.metrics import WINDOW
 
-#: What a full run measures, and what ``--quick`` measures instead (a random agent: a few minutes on 2 cores).
+#: What a full run measures, and what ``--quick`` measures instead (a first look).
 FULL = {"seeds": 5, "budget": 300_000, "switch_budget": 50_000, "trials": 10, "runs": 40}
 QUICK = {"seeds": 3, "budget": 50_000, "switch_budget": 10_000, "trials": 3, "runs": 15}
 #: What ``hippomaze bench`` writes into ``--out`` (besides the job records under ``jobs/``).

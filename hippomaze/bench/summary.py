@@ -3,7 +3,7 @@
 A *variant* is an agent label plus ``-dense`` for the dense reward. Its result holds, per maze,
 the per-seed figures (steps to criterion, the goal switch, the steps counted), and its learning
 curves: success rate and median indirectness against environment steps, the IQM over seeds with
-95 % intervals (:mod:`hippomaze.bench.stats`), per maze and over all mazes (mazes as strata).
+95 % intervals (:mod:`hippomaze.stats`), per maze and over all mazes (mazes as strata).
 The shipped references are variant results too (:mod:`hippomaze.bench.references`).
 
 :func:`compare` puts variants side by side: IQM steps to direct (per maze, all mazes), after a
@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from hippomaze.bench import stats
+from hippomaze import stats
 from hippomaze.bench.jobs import JobRecord
 from hippomaze.bench.metrics import WINDOW, metrics_at, replicates, steps_to_criterion, switch_cost
 

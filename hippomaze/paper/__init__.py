@@ -35,7 +35,7 @@ The modules, in the order a run uses them:
 - ``experiments``: the tasks (built from ``procedures``: roaming, scripted drives, replay,
   navigation; on the ``geometry`` of the mazes), run by ``pool``;
 - ``results``: the typed records the tasks return and the modules pass on;
-- ``analysis`` and ``statistics``: field shape and aliasing, reward-map statistics, correlations;
+- ``analysis``: field shape and aliasing, reward-map statistics, correlations (on :mod:`hippomaze.stats`);
 - ``claims``: each of the paper's claims with the criterion that decides its verdict;
 - ``figures`` and ``report``: the figures and REPORT.md; ``run``: the whole run and paper.json.
 """

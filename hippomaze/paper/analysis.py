@@ -10,10 +10,10 @@ import numpy as np
 
 from hippo_env.dmtp import DMTPResult
 from hippo_env.geometry import convex_hull_area
+from hippomaze.stats import median_or_none, pearson_with_ci, spearman
 
 from .geometry import Grid, distance_to_path, geodesic_to
 from .results import DMTPSummary, FieldCell, FieldSummary, MapStats
-from .statistics import pearson_with_ci, spearman
 
 FIELD_MIN_PEAK = 0.1  # a cell "has a field" if its peak rate on the grid reaches this
 FIELD_LEVEL = 0.5  # the field is where the rate is at least this fraction of the peak
@@ -193,7 +193,7 @@ def dmtp_summary(result: DMTPResult, seed: int) -> DMTPSummary:
     later = ind[:, 1:]
     return DMTPSummary(
         protocol=result.summary(),
-        median_runs_2_on=float(np.nanmedian(later)) if later.size and np.isfinite(later).any() else None,
+        median_runs_2_on=median_or_none(later.ravel()),
         later_runs_reached=int(ok[:, 1:].sum()),
         later_runs_total=int(ok[:, 1:].size),
         pearson=pearson_with_ci(lengths[:, 0], ind[:, 1], seed) if result.runs >= 2 else None,

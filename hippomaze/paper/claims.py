@@ -11,12 +11,13 @@ from typing import TypeVar
 
 import numpy as np
 
+from hippomaze.stats import median_or_none
+
 from .analysis import FAR_PATH, NEAR_PATH, SIMILAR_PLACE
 from .args import PaperArgs
 from .design import MAZES
 from .formatting import fmt
 from .results import Claim, GoalResult, PaperData
-from .statistics import median_or_none
 
 T = TypeVar("T")
 

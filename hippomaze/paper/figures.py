@@ -11,11 +11,11 @@ import numpy as np
 
 from hippo_env.dmtp import DMTPResult
 from hippo_env.maze import MazeSpec
+from hippomaze.stats import median_or_none
 
 from .design import EXAMPLE_CELLS, MAZES, SCENARIOS
 from .formatting import fmt
 from .results import FieldsResult, GeneralisationResult, TrialResult
-from .statistics import median_or_none
 
 FIGURES = [
     (

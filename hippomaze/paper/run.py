@@ -11,6 +11,7 @@ from typing import Any
 
 import hippo_env
 from hippo_env.files import jsonable
+from hippomaze.runinfo import source_digest
 
 from .analysis import dmtp_summary
 from .args import PaperArgs, parse_args
@@ -30,7 +31,7 @@ def run_paper(args: PaperArgs) -> dict[str, Any]:
     args = args.resolved()
     args.validate()
     Path(args.out).mkdir(parents=True, exist_ok=True)
-    sources = _source_digest()  # before the workers import the code: this is what runs
+    sources = source_digest()  # before the workers import the code: this is what runs
     results, seconds = run_tasks(build_tasks(args), args.workers, args.progress)
     return write_outputs(requested, results, seconds, began, sources)
 
@@ -85,7 +86,7 @@ def write_outputs(
     report = write_report(args, data, rows, figures, out, wall, command)
     paper = {
         "command": command,
-        "source_sha256": sources if sources is not None else _source_digest(),
+        "source_sha256": sources if sources is not None else source_digest(),
         "args": dataclasses.asdict(args),
         "agent_config": args.agent_config().to_dict(),
         "seeds": {
@@ -123,23 +124,6 @@ def experiments_record(args: PaperArgs, data: PaperData, fields: dict[str, Field
         "generalisation": {n: g.to_dict(SCENARIOS[n].explore) for n, g in data.generalisation.items()},
         "aliasing_examples": {m: {"examples": f.examples, "alias_examples": f.alias_examples} for m, f in fields.items()},
     }
-
-
-def _source_digest() -> dict[str, str]:
-    """SHA-256 of the model's and the environment's source (they change; this says which ran)."""
-    import hashlib
-
-    import hippo_agent
-
-    digests = {}
-    for package in (hippo_agent, hippo_env):
-        assert package.__file__ is not None
-        root = Path(package.__file__).parent
-        h = hashlib.sha256()
-        for path in sorted(root.rglob("*.py")):
-            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
-        digests[package.__name__] = h.hexdigest()
-    return digests
 
 
 def main(argv: list[str] | None = None) -> int:

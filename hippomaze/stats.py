@@ -1,4 +1,16 @@
-"""The statistics over seeds, by rliable (Agarwal et al. 2021, "Deep RL at the edge of the statistical precipice").
+"""The project's statistics, in one place: everything that summarises repeated measurements.
+
+Plain summaries (NumPy only):
+
+- :func:`median_or_none`: the median of the values that exist; :func:`median_counting_misses`:
+  the median where a miss (``None``, or ``inf``) counts as worse than every value;
+- :func:`median_and_quartiles`: the median and the spread (first and third quartiles) of repeats,
+  e.g. of speed ratios timed side by side;
+- :func:`spearman`, :func:`pearson_with_ci`: rank and linear correlation, the latter with a
+  bootstrap interval over its pairs.
+
+The statistics over seeds, by rliable (Agarwal et al. 2021, "Deep RL at the edge of the
+statistical precipice"; the ``bench`` extra):
 
 - **IQM** (interquartile mean: the 25 % trimmed mean over every seed of every maze) with a 95 %
   **stratified bootstrap** interval: seeds are resampled within each maze (``rliable.library.get_interval_estimates``,
@@ -21,11 +33,81 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+# ---------------------------------------------------------------------- plain summaries
+
+
+def median_or_none(values: Iterable[float | None]) -> float | None:
+    """The median of the finite values among ``values`` (None entries skipped); None if there are none."""
+    v = np.asarray([x for x in values if x is not None], float)
+    v = v[np.isfinite(v)]
+    return float(np.median(v)) if len(v) else None
+
+
+def median_counting_misses(values: Iterable[float | None]) -> float | None:
+    """The median where a miss (``None`` or ``inf``: never got there) counts as worse than every
+    value; None if the median itself is a miss, or there are no values."""
+    v = np.asarray([math.inf if x is None else x for x in values], float)
+    if not len(v):
+        return None
+    median = float(np.median(v))
+    return median if math.isfinite(median) else None
+
+
+def median_and_quartiles(values: Sequence[float], digits: int = 3) -> dict[str, Any]:
+    """The median of repeated measurements and their spread: ``{"n", "median", "quartiles": [first, third]}``
+    (NumPy's linear-interpolation percentiles), rounded to ``digits``; median and quartiles None without values."""
+    v = np.asarray(values, float)
+    if not len(v):
+        return {"n": 0, "median": None, "quartiles": None}
+    q1, median, q3 = (round(float(q), digits) for q in np.percentile(v, [25, 50, 75]))
+    return {"n": len(v), "median": median, "quartiles": [q1, q3]}
+
+
+def spearman(x: np.ndarray, y: np.ndarray) -> float | None:
+    """Spearman's rank correlation (NaN-free inputs; None if either is constant or too short)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if len(x) < 5 or np.ptp(x) == 0 or np.ptp(y) == 0:
+        return None
+    rx, ry = np.argsort(np.argsort(x)), np.argsort(np.argsort(y))
+    return float(np.corrcoef(rx, ry)[0, 1])
+
+
+def pearson_with_ci(x: np.ndarray, y: np.ndarray, seed: int, n_boot: int = 4000) -> dict[str, Any]:
+    """Pearson r with a 95 % bootstrap interval over the pairs, and Spearman's rho; pairs with a
+    non-finite value are left out.
+
+    Keys: ``n``, ``r``, ``ci95``, ``spearman`` and ``leave_one_out`` (the range of r with one pair left out).
+    """
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    keep = np.isfinite(x) & np.isfinite(y)
+    x, y = x[keep], y[keep]
+    if len(x) < 3 or np.std(x) == 0 or np.std(y) == 0:
+        return {"n": len(x), "r": None, "ci95": None, "spearman": None, "leave_one_out": None}
+    rng = np.random.default_rng(seed)
+    boots = []
+    for _ in range(n_boot):
+        idx = rng.integers(0, len(x), len(x))
+        if np.std(x[idx]) > 0 and np.std(y[idx]) > 0:
+            boots.append(np.corrcoef(x[idx], y[idx])[0, 1])
+    ci = [float(np.quantile(boots, 0.025)), float(np.quantile(boots, 0.975))] if boots else None
+    loo = [np.corrcoef(np.delete(x, k), np.delete(y, k))[0, 1] for k in range(len(x)) if len(x) > 3]
+    loo = [v for v in loo if np.isfinite(v)]
+    return {
+        "n": len(x),
+        "r": float(np.corrcoef(x, y)[0, 1]),
+        "ci95": ci,
+        "spearman": spearman(x, y),
+        "leave_one_out": [float(min(loo)), float(max(loo))] if loo else None,
+    }
+
+
+# ---------------------------------------------------------------------- over seeds, by rliable
 
 #: Bootstrap resamples per interval.
 REPS = 2000
