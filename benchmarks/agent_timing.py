@@ -184,7 +184,7 @@ def measure(n_place: int, args: Any, split: bool = False) -> dict[str, Any]:
         agent.learn_reward()
         replay_ms.append(1e3 * (time.perf_counter() - began))
     replay_split = _replay_split(agent) if split else None
-    agent.reward = before_timing
+    agent.model.reward = before_timing
     recorded = recorded_walk(env, args.steps, args.seed)
     row: dict[str, Any] = {"n_place": n_place, "n_bvc": agent.bvc.n}
     for mode, exploit in (("exploiting", True), ("exploring", False)):

@@ -113,7 +113,7 @@ class AgentConfig:
             if not field_name:  # a whole section: None (off), a section, or a dict of fields to change in it
                 if isinstance(value, dict):
                     current = sections.get(section, getattr(self, section))
-                    value = _SECTIONS[section].from_dict(value) if current is None else current.replace(**value)
+                    value = _SECTIONS[section].from_dict({**({} if current is None else current.to_dict()), **value})
                 sections[section] = value
                 continue
             current = sections.get(section, getattr(self, section))

@@ -81,7 +81,7 @@ def test_sections_are_frozen():
         ("homing.search_mark", -0.1, "> 0"),
         ("homing.bump_limit", 0, ">= 1"),
         ("homing.approach_radius", 0.0, "> 0"),
-        ("localisation.lost_bump_rate", -0.1, ">= 0"),
+        ("localisation.lost_bump_rate", 0.0, "> 0"),
         ("localisation.bump_rate_steps", 0, ">= 1"),
         ("localisation.lost_agreement", 1.5, ">= -1 and <= 1"),
         ("reflexes.clearance", 0.0, "> 0"),  # (off is None)

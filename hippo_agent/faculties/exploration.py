@@ -66,17 +66,17 @@ class Exploration:
 
     Args:
         config: its parameters.
-        map: the agent's map.
+        map_: the agent's map.
         pi: the agent's path integrator (the estimate is where the robot plans from).
         model: the paper's model (its place codes are replayed at rest).
         rng: the agent's generator (transit destinations).
     """
 
     def __init__(
-        self, config: ExplorationConfig, map: ExplorationMap, pi: PathIntegrator, model: PaperModel, rng: np.random.Generator
-    ) -> None:  # noqa: A002
+        self, config: ExplorationConfig, map_: ExplorationMap, pi: PathIntegrator, model: PaperModel, rng: np.random.Generator
+    ) -> None:
         self.config = config
-        self.map = map
+        self.map = map_
         self.pi = pi
         self.model = model
         self.rng = rng

@@ -64,14 +64,14 @@ class Homing:
 
     Args:
         config: its parameters.
-        map: the agent's map (paths, and the ground searched in this run).
+        map_: the agent's map (paths, and the ground searched in this run).
         pi: the agent's path integrator (the estimate).
         localisation: the agent's localisation, if any (homing waits while it doubts the estimate).
     """
 
-    def __init__(self, config: HomingConfig, map: ExplorationMap, pi: PathIntegrator, localisation: Localisation | None) -> None:  # noqa: A002
+    def __init__(self, config: HomingConfig, map_: ExplorationMap, pi: PathIntegrator, localisation: Localisation | None) -> None:
         self.config = config
-        self.map = map
+        self.map = map_
         self.pi = pi
         self.localisation = localisation
         # per goal, the sum of the estimates at which the reward was found, and their count
@@ -202,7 +202,9 @@ class Homing:
         found_sum = np.asarray(arrays["found_sum"], dtype=np.float64).reshape(-1, 2)
         found_count = np.asarray(arrays["found_count"], dtype=np.float64).reshape(-1)
         if len(found_sum) != len(found_count) or not (np.all(np.isfinite(found_sum)) and np.all(np.isfinite(found_count))):
-            raise ValueError(f"homing's arrays 'found_sum' ({len(found_sum)} places) and 'found_count' ({len(found_count)}) do not match, or are not finite")
+            raise ValueError(
+                f"homing's arrays 'found_sum' ({len(found_sum)} places) and 'found_count' ({len(found_count)}) do not match, or are not finite"
+            )
         self.found_sum, self.found_count = found_sum, found_count
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
 

@@ -73,17 +73,17 @@ class Localisation:
 
     Args:
         config: its parameters.
-        map: the agent's map.
+        map_: the agent's map.
         pi: the agent's path integrator, whose belief this faculty weighs and may declare lost.
         max_range: the rangefinder's maximum range (m).
         rng: the agent's generator (the map's proposals).
     """
 
     def __init__(
-        self, config: LocalisationConfig, map: ExplorationMap, pi: PathIntegrator, max_range: float, rng: np.random.Generator
-    ) -> None:  # noqa: A002
+        self, config: LocalisationConfig, map_: ExplorationMap, pi: PathIntegrator, max_range: float, rng: np.random.Generator
+    ) -> None:
         self.config = config
-        self.map = map
+        self.map = map_
         self.pi = pi
         self.max_range = max_range
         self.rng = rng

@@ -182,7 +182,7 @@ def _differences(args: PaperArgs) -> list[str]:
         ),
         (
             "- **Reward-map statistics**: a place is covered if the value exceeds the agent's exploit threshold xi = "
-            f"{cfg.xi:g}; gradedness is Spearman's rho between "
+            f"{cfg.model.xi:g}; gradedness is Spearman's rho between "
             "value and the geodesic distance to the goal over covered places."
         ),
         (
