@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 
 ACTION_TYPES = ("discrete", "heading", "heading_normalized", "wheels")
 REWARD_TYPES = ("sparse", "dense")
-RESET_OPTIONS = ("goal", "new_goal", "start", "heading")
+RESET_OPTIONS = ("maze", "goal", "new_goal", "start", "heading")
 GOAL_CLEARANCE = 0.5  # m from every wall, for goals the environment draws
 START_CLEARANCE = physics.ROBOT_RADIUS + 0.05  # m from every wall, for random starts
 DENSE_GRID = 0.1  # m, cell of the distance field behind reward_type="dense"
@@ -105,7 +105,9 @@ class HippoMazeEnv(gym.Env):
 
     ``reset(options=...)`` takes ``{"goal": [x, y]}`` (move the goal: a new trial),
     ``{"goal": None}`` (no goal: exploration only), ``{"new_goal": True}`` (draw a new goal),
-    ``{"start": [x, y], "heading": rad}`` (the start pose; each may be given alone).
+    ``{"start": [x, y], "heading": rad}`` (the start pose; each may be given alone),
+    ``{"maze": name | path | MazeSpec}`` (a changed world: the layout from this run on, the goal kept
+    unless moved too; a goal inside the new layout's walls is an error).
     Random starts keep 1 m from the current goal, so ``reset(seed=s)`` on an environment whose
     goal was moved earlier in the trial may start elsewhere than on a fresh one: the trial's goal is
     part of the state, as DMTP requires.
@@ -114,7 +116,8 @@ class HippoMazeEnv(gym.Env):
     - v0: first version. Since then, info ``position`` and ``goal`` are float arrays (were tuples:
       compare them with ``np.array_equal``), and added: ``action_type="heading_normalized"``, the
       ``goal``, ``goal_seed`` and ``path_limit`` arguments. Also added: the opt-in ``odometry`` observation
-      (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged).
+      (with ``odometry_noise``) and ``heading_noise`` (the default observation is unchanged), and the
+      reset option ``maze``.
     """
 
     # gymnasium.Env declares metadata as an attribute, so a ClassVar here would contradict it.
@@ -156,8 +159,7 @@ class HippoMazeEnv(gym.Env):
             check_number(value, name, "a finite number >= 0", 0.0)
         if goal_radius <= 0:
             raise ValueError(f"goal_radius must be positive, got {goal_radius!r}")
-        self.maze = MazeSpec.load(maze)
-        self.maze.check_connected(physics.ROBOT_RADIUS)
+        self.maze = self._load_maze(maze, "maze")
         self.rangefinder = Rangefinder(self.maze.segments, n_rays, max_range)
         self.world = physics.RobotWorld(self.maze)
         self.range_noise = float(range_noise)
@@ -208,6 +210,8 @@ class HippoMazeEnv(gym.Env):
         unknown = sorted(set(options) - set(RESET_OPTIONS))
         if unknown:
             raise ValueError(f"reset options {unknown} are unknown; allowed: {', '.join(RESET_OPTIONS)}")
+        if "maze" in options:
+            self._change_maze(options["maze"], keep_goal="goal" not in options and not options.get("new_goal"))
         # Always draw a candidate goal, so that reset(seed=s) consumes the same random numbers
         # whether or not the goal moves: the same seed then gives the same start.
         candidate = self.maze.sample_free(self.np_random, GOAL_CLEARANCE)
@@ -377,13 +381,14 @@ class HippoMazeEnv(gym.Env):
             )
         return values
 
-    def _check_goal(self, goal: Any, where: str) -> np.ndarray:
+    def _check_goal(self, goal: Any, where: str, maze: MazeSpec | None = None) -> np.ndarray:
         point = _as_xy(goal, where)
-        if self.maze.clearance(point) < physics.ROBOT_RADIUS:
+        maze = self.maze if maze is None else maze
+        if maze.clearance(point) < physics.ROBOT_RADIUS:
             raise ValueError(
                 f"{where} ({point[0]:g}, {point[1]:g}) is inside a wall or obstacle, or too close to one for the robot to reach: "
                 f"a goal's centre needs clearance of at least {physics.ROBOT_RADIUS} m (the robot's radius) inside the "
-                f"{self.maze.size[0]:g} x {self.maze.size[1]:g} m arena"
+                f"{maze.size[0]:g} x {maze.size[1]:g} m arena"
             )
         return point
 
@@ -397,6 +402,29 @@ class HippoMazeEnv(gym.Env):
             check_int(goal_seed, "goal_seed", 0, "a non-negative integer")
             return self.maze.sample_free(np.random.default_rng(int(goal_seed)), GOAL_CLEARANCE)
         return None if self.maze.goal is None else np.asarray(self.maze.goal, float)
+
+    @staticmethod
+    def _load_maze(maze: Any, where: str) -> MazeSpec:
+        """The maze a name, a path or a spec stands for, checked: one connected free space."""
+        if not isinstance(maze, (str, Path, MazeSpec)):
+            raise TypeError(f"{where} must be a built-in maze name, a path to a maze JSON file or a MazeSpec, got {type(maze).__name__}")
+        spec = MazeSpec.load(maze)
+        spec.check_connected(physics.ROBOT_RADIUS)
+        return spec
+
+    def _change_maze(self, maze: Any, keep_goal: bool) -> None:
+        """The world changes: ``maze``'s walls from this reset on (the goal too is checked against
+        them if it stays). Nothing changes if the maze is refused."""
+        spec = self._load_maze(maze, "reset option 'maze'")
+        if keep_goal and self.goal is not None:
+            self._check_goal(self.goal, f"the goal kept in maze {spec.name!r}", spec)
+        self.maze = spec
+        self.world.set_maze(spec)
+        self.rangefinder = Rangefinder(spec.segments, self.rangefinder.n_rays, self.rangefinder.max_range)
+        self._distance_field = None
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
 
     def _check_start(self, start: Any) -> np.ndarray:
         point = _as_xy(start, "reset option 'start'")

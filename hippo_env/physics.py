@@ -74,16 +74,30 @@ class RobotWorld:
         space = pymunk.Space()
         space.collision_slop = 1e-4
         space.iterations = 20
-        for x0, y0, x1, y1 in self.segments:
-            wall = pymunk.Segment(space.static_body, (x0, y0), (x1, y1), 0.0)
-            wall.friction = 0.0
-            wall.elasticity = 0.0
-            space.add(wall)
         self.space = space
+        self.walls: list[pymunk.Segment] = []
+        self._add_walls()
         self.body: pymunk.Body | None = None
         self.shape: pymunk.Circle | None = None
         self.sim_time = 0.0
         self.reset((0.0, 0.0), 0.0)
+
+    def _add_walls(self) -> None:
+        for x0, y0, x1, y1 in self.segments:
+            wall = pymunk.Segment(self.space.static_body, (x0, y0), (x1, y1), 0.0)
+            wall.friction = 0.0
+            wall.elasticity = 0.0
+            self.space.add(wall)
+            self.walls.append(wall)
+
+    def set_maze(self, maze: MazeSpec) -> None:
+        """The walls of ``maze`` in place of the old ones, in the same space (call :meth:`reset`
+        next: the robot may stand where a wall now is)."""
+        self.space.remove(*self.walls)
+        self.walls = []
+        self.maze = maze
+        self.segments = maze.segments
+        self._add_walls()
 
     def reset(self, position: tuple[float, float] | np.ndarray, heading: float) -> None:
         """A new robot body and shape at a pose, in place of the old ones (nothing carried over)."""
