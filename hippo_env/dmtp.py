@@ -2,9 +2,10 @@
 observe loop every agent is driven by.
 
 :func:`run_dmtp` runs ``trials`` trials, each with a new goal, of ``runs`` runs each, with any agent
-that follows the Agent protocol (:mod:`hippo_env.agent_protocol`). Goals and starts are drawn by
-the runner from its own seeded generator, so every agent given the same seed faces exactly the
-same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent.
+that follows the Agent protocol (:mod:`hippo_env.agent_protocol`); or a schedule of phases
+(:mod:`hippo_env.schedule`): mazes that change, goals kept or moved, announced or not. Goals and
+starts are drawn by the runner from its own seeded generator, so every agent given the same seed
+faces exactly the same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import json
 import math
 import platform
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, SupportsFloat
@@ -27,14 +28,16 @@ import numpy as np
 
 from hippo_env.agent_protocol import AgentFactory, missing_methods
 from hippo_env.checks import check_int
-from hippo_env.env import GOAL_CLEARANCE, START_CLEARANCE, HippoMazeEnv, maze_env
+from hippo_env.env import HippoMazeEnv, add_indirectness, maze_env
 from hippo_env.files import atomic_write, finite_or_none, jsonable, write_json
 from hippo_env.maze import MazeSpec
+from hippo_env.schedule import Schedule, SchedulePlanner, TrialPlan, plain_plans, schedule_summary
 
 
 @dataclass
 class Run:
-    """One run of one trial, as recorded in ``dmtp.json`` (under its key ``"episodes"``)."""
+    """One run of one trial, as recorded in ``dmtp.json`` (under its key ``"episodes"``). ``trial`` counts
+    over the whole experiment; ``phase`` and ``repeat`` place a schedule's run (written only for those)."""
 
     trial: int
     run: int
@@ -45,6 +48,8 @@ class Run:
     indirectness: float
     start: list[float]
     goal: list[float]
+    phase: int = 0
+    repeat: int = 0
 
 
 @dataclass
@@ -62,8 +67,14 @@ class DMTPResult:
     exception), which is not recorded.
     The remaining fields say what reproduces the result: ``max_episode_steps``, ``action_type``,
     ``env_kwargs`` (every argument given to ``gym.make`` besides the maze), ``agent_spec`` (what
-    names the agent, e.g. ``module:Class``), ``agent_config`` (its configuration as JSON, or None)
-    and ``versions`` (of Python and the packages that decide the result).
+    names the agent, e.g. ``module:Class``), ``agent_config`` (its configuration as JSON, or None),
+    ``agent_overrides`` (the parameters its factory was given, if any) and ``versions`` (of Python
+    and the packages that decide the result).
+
+    A schedule's result also has ``schedule`` (as run) and ``phases`` (per phase begun, in each
+    repeat: its maze's name, dry-run steps and goals; ``phase_mazes``, not written, its mazes);
+    its ``dry_run_steps`` has one entry per phase begun, ``trials`` counts every phase's trials in
+    every repeat, ``runs`` is the most runs of a phase, ``maze`` names the first phase's maze.
     """
 
     maze: str
@@ -84,6 +95,10 @@ class DMTPResult:
     agent_config: Any = None
     versions: dict[str, str | None] = field(default_factory=dict)
     error: str | None = None
+    agent_overrides: dict[str, Any] | None = None
+    schedule: dict[str, Any] | None = None
+    phases: list[dict[str, Any]] = field(default_factory=list)
+    phase_mazes: list[MazeSpec] = field(default_factory=list, repr=False)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``dmtp.json`` record (paths and timing left out).
@@ -106,12 +121,24 @@ class DMTPResult:
             "agent_config": self.agent_config,
             "versions": dict(self.versions),
         }
+        if self.agent_overrides:
+            record["agent_overrides"] = _plain(self.agent_overrides)
+        if self.schedule is not None:
+            record["schedule"] = self.schedule
+            record["phases"] = jsonable(self.phases)
         if not self.complete:
             record["complete"] = False
         if self.error is not None:
             record["error"] = self.error
-        record["episodes"] = [jsonable(asdict(r)) for r in self.run_records]  # the documented key of dmtp.json
+        hidden = ("phase", "repeat") if self.schedule is None else ()  # a plain run's episodes keep exactly their documented keys
+        record["episodes"] = [{k: v for k, v in jsonable(asdict(r)).items() if k not in hidden} for r in self.run_records]
         return record
+
+    def planned_runs(self) -> int:
+        """Runs the experiment set out to record."""
+        if self.schedule is None:
+            return self.trials * self.runs
+        return int(self.schedule["repeats"]) * sum(p["trials"] * p["runs"] for p in self.schedule["phases"])
 
     def save(self, out_dir: str | Path) -> Path:
         """Write ``dmtp.json`` and ``paths.npz`` (every run's positions) into ``out_dir``, each atomically."""
@@ -138,7 +165,10 @@ class DMTPResult:
         return table
 
     def summary(self) -> dict[str, Any]:
-        """Per-run medians, success rates, and the run-1 length vs run-2 indirectness correlation."""
+        """Per-run medians, success rates, and the run-1 length vs run-2 indirectness correlation;
+        for a schedule, per phase (:func:`hippo_env.schedule.schedule_summary`)."""
+        if self.schedule is not None:
+            return schedule_summary(self)
         ind, ok = self.indirectness(), self.success()
         lengths = np.full((self.trials, self.runs), np.nan)
         for r in self.run_records:
@@ -192,32 +222,43 @@ def rollout(
 
 
 class _CountingEnv(gym.Wrapper):
-    """Counts every step taken through it; during the dry run it refuses to place a goal."""
+    """Counts every step taken through it and cuts a run at ``limit`` steps (``truncated=True``, as
+    a time limit does); during the dry run it refuses to place a goal or change the maze."""
 
-    def __init__(self, env: gym.Env, allow_goal: bool) -> None:
+    def __init__(self, env: gym.Env, allow_goal: bool, limit: int | None = None) -> None:
         super().__init__(env)
         self.steps = 0
+        self.run_steps = 0
         self.allow_goal = allow_goal
+        self.limit = limit
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal")):
-            raise ValueError("an agent may not place a goal during its dry run; reset without 'goal' or 'new_goal'")
+        if not self.allow_goal and options and (options.get("goal") is not None or options.get("new_goal") or "maze" in options):
+            raise ValueError("an agent may not place a goal during its dry run, nor swap the maze: omit 'goal', 'new_goal', 'maze'")
+        self.run_steps = 0
         return self.env.reset(seed=seed, options=options)
 
     def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         self.steps += 1
-        return self.env.step(action)
+        self.run_steps += 1
+        observation, reward, terminated, truncated, info = self.env.step(action)
+        if self.limit is not None and self.run_steps >= self.limit and not (terminated or truncated):
+            truncated = True
+            add_indirectness(info)
+        return observation, reward, terminated, truncated, info
 
 
 def run_dmtp(
     make_agent: AgentFactory,
-    maze: str | Path | MazeSpec = "open",
-    trials: int = 20,
-    runs: int = 4,
+    maze: str | Path | MazeSpec | None = None,
+    trials: int | None = None,
+    runs: int | None = None,
     seed: int = 0,
     *,
+    schedule: Schedule | str | Path | dict[str, Any] | None = None,
     agent_name: str = "agent",
     agent_spec: str | None = None,
+    agent_overrides: dict[str, Any] | None = None,
     same_start: bool = False,
     fresh_agent_per_trial: bool = True,
     env_kwargs: dict[str, Any] | None = None,
@@ -226,19 +267,24 @@ def run_dmtp(
     progress: bool = True,
     on_run_end: Callable[[int, int, Any, gym.Env], None] | None = None,
 ) -> DMTPResult:
-    """Run the delayed-match-to-place protocol and record every run.
+    """Run the delayed-match-to-place protocol, or a schedule of phases, and record every run.
 
     Args:
         make_agent: ``make_agent(observation_space, action_space, seed=seed)`` returns an agent
             (an agent class taking ``seed=`` fits, e.g. ``HippocampalAgent``).
-        maze: A built-in maze name, a JSON path or a spec.
-        trials: Trials, each with a new goal.
-        runs: Runs per trial; the first is naive about the new goal.
+        maze: A built-in maze name, a JSON path or a spec (default ``"open"``).
+        trials: Trials, each with a new goal (default 20).
+        runs: Runs per trial; the first is naive about the new goal (default 4).
         seed: Seeds the goals, starts, environment and agents.
+        schedule: Instead of ``maze``, ``trials`` and ``runs`` (an error with any of them): a
+            :class:`~hippo_env.schedule.Schedule`, its JSON object or a path to its file. One agent
+            lives through a repeat's phases; each phase's maze is put in the environment with
+            ``reset(options={"maze": ...})`` at its first reset; ``fresh_agent_per_trial`` is not used.
         agent_name: The name recorded in the result.
         agent_spec: What names the agent for someone reproducing the result (``hippomaze dmtp``
             gives its ``--agent``); by default ``module:Name`` of ``make_agent`` where that can be
             imported, else ``agent_name``.
+        agent_overrides: The parameters ``make_agent`` was made with, for the record only.
         same_start: Start every run of a trial from the same place (the paper's Fig. 3).
         fresh_agent_per_trial: A new agent (and its dry run) for each trial, making trials
             independent replicates; otherwise one agent lives through every trial.
@@ -253,33 +299,43 @@ def run_dmtp(
 
     Raises:
         TypeError: ``trials`` or ``runs`` not an integer, or an agent that does not follow the protocol.
-        ValueError: ``trials`` or ``runs`` below 1, a bad maze, or an environment argument ``HippoMaze-v0`` does not take.
+        ValueError: ``trials`` or ``runs`` below 1, a bad maze or schedule, or an environment argument ``HippoMaze-v0`` does not take.
         DMTPInterrupted: On Ctrl-C (a ``KeyboardInterrupt``); its ``result`` holds the finished runs.
         DMTPFailed: When an exception escapes the agent, the environment or ``on_run_end`` once the
             experiment has begun; raised from that exception (its traceback is kept), with the
             finished runs in its ``result``.
     """
-    check_int(trials, "trials", 1, "a positive integer")
-    check_int(runs, "runs", 1, "a positive integer")
-    spec = MazeSpec.load(maze)
-    env, make_kwargs = _make_env(spec, make_agent, env_kwargs, max_episode_steps)
+    plans: Iterable[TrialPlan]
+    if schedule is not None:
+        plans = planner = SchedulePlanner.instead_of(schedule, int(seed), same_start, maze=maze, trials=trials, runs=runs)
+        spec, trials, runs = planner.first_maze, planner.schedule.total_trials, max(p.runs for p in planner.schedule.phases)
+        run_limit, make_limit = planner.step_limits(max_episode_steps, gym.spec("HippoMaze-v0").max_episode_steps or 10_000)
+    else:
+        trials, runs, planner = (20 if trials is None else trials), (4 if runs is None else runs), None
+        check_int(trials, "trials", 1, "a positive integer")
+        check_int(runs, "runs", 1, "a positive integer")
+        spec = MazeSpec.load("open" if maze is None else maze)
+        run_limit, make_limit = None, max_episode_steps
+        plans = plain_plans(spec, trials, runs, int(seed), same_start, fresh_agent_per_trial)
+    env, make_kwargs = _make_env(spec, make_agent, env_kwargs, make_limit)
     result = DMTPResult(
         maze=spec.name,
         agent=agent_name,
         seed=int(seed),
         trials=int(trials),
         runs=int(runs),
-        max_episode_steps=env.spec.max_episode_steps if env.spec is not None else max_episode_steps,
+        max_episode_steps=run_limit if planner is not None else (env.spec.max_episode_steps if env.spec is not None else max_episode_steps),
         action_type=maze_env(env).action_type,
         env_kwargs=dict(make_kwargs),
         agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
         versions=_versions(),
+        agent_overrides=dict(agent_overrides) if agent_overrides else None,
+        schedule=planner.schedule.to_dict() if planner is not None else None,
     )
-    experiment = _Experiment(
-        env, result, make_agent, step_budget, on_run_end, _progress(trials * runs, f"{agent_name} on {spec.name}", progress)
-    )
+    bar = _progress(result.planned_runs(), f"{agent_name} on {spec.name}" if planner is None else f"{agent_name}: schedule", progress)
+    experiment = _Experiment(env, result, make_agent, step_budget, on_run_end, bar, run_limit)
     env.reset(seed=int(seed), options={"goal": None})
-    experiment.run(spec, seed, same_start, fresh_agent_per_trial)
+    experiment.run(plans)
     return result
 
 
@@ -295,20 +351,11 @@ def _make_env(
     return gym.make("HippoMaze-v0", maze=spec, **make_kwargs), make_kwargs
 
 
-def _draw_trial(spec: MazeSpec, rng: np.random.Generator, runs: int, same_start: bool) -> tuple[np.ndarray, list[np.ndarray]]:
-    """A trial's goal and its runs' starts, from the runner's own generator: every agent given the
-    same seed faces the same ones."""
-    goal = spec.sample_free(rng, GOAL_CLEARANCE)
-    starts = [spec.sample_free(rng, START_CLEARANCE, away_from=goal, min_distance=1.0) for _ in range(runs)]
-    if same_start:
-        starts = [starts[0]] * runs
-    return goal, starts
-
-
 class _Experiment:
     """One :func:`run_dmtp` call under way: the environment, the agent, the step count and the record.
 
     ``doing`` says what the runner is doing, for the message of an exception that stops it.
+    ``run_limit`` (a schedule's) cuts each dry-run episode, as the environment's time limit would.
     """
 
     def __init__(
@@ -319,6 +366,7 @@ class _Experiment:
         step_budget: int | None,
         on_run_end: Callable[[int, int, Any, gym.Env], None] | None,
         bar: Any,
+        run_limit: int | None = None,
     ) -> None:
         self.env = env
         self.counted = _CountingEnv(env, allow_goal=True)
@@ -328,27 +376,24 @@ class _Experiment:
         self.on_run_end = on_run_end
         self.bar = bar
         self.agent: Any = None
+        self.run_limit = run_limit
+        self.maze: dict[str, Any] = {}  # {"maze": spec} until the reset that puts a new maze in the env
         self.doing = "starting"
         self.began = time.perf_counter()
 
-    def run(self, spec: MazeSpec, seed: int, same_start: bool, fresh_agent_per_trial: bool) -> None:
-        """Every trial and run; on Ctrl-C or an exception, keep what finished and raise
+    def run(self, plans: Iterable[TrialPlan]) -> None:
+        """Every trial planned and its runs; on Ctrl-C or an exception, keep what finished and raise
         :class:`DMTPInterrupted` or :class:`DMTPFailed`."""
         result = self.result
-        rng = np.random.default_rng(seed)
-        agent_seeds = np.random.SeedSequence(seed).generate_state(result.trials)
         try:
-            for trial in range(result.trials):
+            for plan in plans:
                 if not self.budget_left():
                     break
-                goal, starts = _draw_trial(spec, rng, result.runs, same_start)
-                result.dry_run_steps.append(0)
-                if self.agent is None or fresh_agent_per_trial:
-                    self.agent = self.new_agent(trial, int(agent_seeds[trial]))
-                self.start_trial(trial)
-                for run in range(result.runs):
-                    if not self.budget_left() or not self.run_once(trial, run, goal, starts[run]):
+                self.begin(plan)
+                for run, start in enumerate(plan.starts):
+                    if not self.budget_left() or not self.run_once(plan, run, start):
                         break
+                self.doing = "planning the next trial"
         except KeyboardInterrupt:
             _keep_finished(result)
             self.finish()
@@ -364,35 +409,44 @@ class _Experiment:
         """Whether the step budget (the dry runs' steps included) allows another step."""
         return self.step_budget is None or sum(self.result.dry_run_steps) + self.counted.steps < self.step_budget
 
-    def new_agent(self, trial: int, seed: int) -> Any:
-        """A new agent for ``trial``, checked, after its dry run (whose steps count, even if it is interrupted)."""
-        self.doing = f"building the agent for trial {trial + 1}"
-        agent = self.make_agent(self.env.observation_space, self.env.action_space, seed=seed)
-        _check_agent(agent)
-        if trial == 0:
-            self.result.agent_config = agent_config(agent)
-        dry_run = dry_run_method(agent)
+    def begin(self, plan: TrialPlan) -> None:
+        """Open a trial: its phase's records, a new maze, a new agent, a dry run and ``start_trial``, as planned."""
+        if plan.new_phase:
+            self.result.dry_run_steps.append(0)
+            if plan.record is not None:
+                self.result.phases.append(plan.record)
+        if plan.maze is not None:
+            self.result.phase_mazes.append(plan.maze)
+            self.maze = {} if plan.maze == maze_env(self.env).maze else {"maze": plan.maze}
+        if plan.agent_seed is not None:
+            self.doing = f"building the agent for {plan.label}"
+            self.agent = self.make_agent(self.env.observation_space, self.env.action_space, seed=plan.agent_seed)
+            _check_agent(self.agent)
+            if plan.trial == 0:
+                self.result.agent_config = agent_config(self.agent)
+        dry_run = dry_run_method(self.agent) if plan.dry_run else None
         if dry_run is not None:
-            self.doing = f"the dry run of trial {trial + 1}"
-            self.env.reset(options={"goal": None})
-            explorer = _CountingEnv(self.env, allow_goal=False)
+            self.doing = f"the dry run of {plan.label}"
+            self.env.reset(options={"goal": None, **self.maze})
+            self.maze = {}
+            explorer = _CountingEnv(self.env, allow_goal=False, limit=self.run_limit)
             try:
                 dry_run(explorer)
             finally:
                 self.result.dry_run_steps[-1] = explorer.steps
-        return agent
-
-    def start_trial(self, trial: int) -> None:
-        """Tell the agent the goal has moved (if it listens), and open the trial's paths."""
-        self.doing = f"starting trial {trial + 1}"
-        if callable(getattr(self.agent, "start_trial", None)):
-            self.agent.start_trial(trial)
+                if plan.record is not None:
+                    plan.record["dry_run_steps"] = explorer.steps
+        self.doing = f"starting {plan.label}"
+        if plan.announce and callable(getattr(self.agent, "start_trial", None)):
+            self.agent.start_trial(plan.life_trial)
         self.result.paths.append([])
 
-    def run_once(self, trial: int, run: int, goal: np.ndarray, start: np.ndarray) -> bool:
+    def run_once(self, plan: TrialPlan, run: int, start: np.ndarray) -> bool:
         """One run from ``start``, recorded; False if the step budget cut it short (not a run: not recorded)."""
-        self.doing = f"trial {trial + 1}, run {run + 1}"
-        observation, info = self.counted.reset(options={"goal": goal, "start": start})
+        self.doing = f"{plan.label}, run {run + 1}"
+        self.counted.limit = plan.max_steps or self.run_limit
+        observation, info = self.counted.reset(options={"goal": plan.goal, "start": start, **self.maze})
+        self.maze = {}
         self.agent.reset(observation, info)
         steps_before = self.counted.steps
         end = rollout(self.counted, self.agent, observation, keep_going=self.budget_left)
@@ -401,7 +455,7 @@ class _Experiment:
         self.result.paths[-1].append(maze_env(self.env).path.copy())
         self.result.run_records.append(
             Run(
-                trial=trial,
+                trial=plan.trial,
                 run=run,
                 steps=self.counted.steps - steps_before,
                 success=bool(end.info["is_success"]),
@@ -409,14 +463,16 @@ class _Experiment:
                 shortest_path_length=float(end.info["shortest_path_length"]),
                 indirectness=float(end.info.get("indirectness", math.nan)),
                 start=[float(v) for v in start],
-                goal=[float(v) for v in goal],
+                goal=[float(v) for v in plan.goal],
+                phase=plan.phase,
+                repeat=plan.repeat,
             )
         )
         if self.on_run_end is not None:
-            self.doing = f"on_run_end after trial {trial + 1}, run {run + 1}"
-            self.on_run_end(trial, run, self.agent, self.env)
+            self.doing = f"on_run_end after {plan.label}, run {run + 1}"
+            self.on_run_end(plan.trial, run, self.agent, self.env)
         if self.bar is not None:
-            self.bar.set_postfix(trial=trial + 1, run=run + 1, indirectness=f"{self.result.run_records[-1].indirectness:.2f}")
+            self.bar.set_postfix_str(f"{plan.label}, run {run + 1}, indirectness {self.result.run_records[-1].indirectness:.2f}")
             self.bar.update(1)
         return True
 
@@ -445,7 +501,7 @@ class DMTPInterrupted(KeyboardInterrupt):
     """
 
     def __init__(self, result: DMTPResult) -> None:
-        super().__init__(f"interrupted after {len(result.run_records)} of {result.trials * result.runs} runs")
+        super().__init__(f"interrupted after {len(result.run_records)} of {result.planned_runs()} runs")
         self.result = result
 
 
@@ -457,7 +513,7 @@ class DMTPFailed(Exception):
     """
 
     def __init__(self, result: DMTPResult, doing: str) -> None:
-        super().__init__(f"{result.error} ({doing}; {len(result.run_records)} of {result.trials * result.runs} runs finished)")
+        super().__init__(f"{result.error} ({doing}; {len(result.run_records)} of {result.planned_runs()} runs finished)")
         self.result = result
         self.doing = doing
 

@@ -2,7 +2,8 @@
 
 ``hippomaze dmtp --maze open --trials 20 --runs 4 --seed 0 --agent hippo --out out/`` runs the
 delayed-match-to-place experiment, prints each run's indirectness and writes ``out/dmtp.json``
-with its figures. ``hippomaze paper --out DIR`` reproduces the paper's experiments.
+with its figures; ``hippomaze dmtp --schedule FILE.json`` runs a schedule of phases instead
+(:mod:`hippo_env.schedule`). ``hippomaze paper --out DIR`` reproduces the paper's experiments.
 ``hippomaze bench --agent module:Class --out DIR`` measures an agent's sample efficiency beside
 the shipped references (:mod:`hippomaze.bench`); ``hippomaze animate --out FILE.gif`` animates
 one DMTP trial (:mod:`hippomaze.animate`).
@@ -36,7 +37,10 @@ DMTP_OUTPUTS = (
     "paths_trial*.png",
     "reward_map_after_run1.png",
     "place_fields.png",
+    "indirectness_by_episode.png",
+    "paths_phase*.png",
 )
+DEFAULT_MAZE, DEFAULT_TRIALS, DEFAULT_RUNS = "open", 20, 4
 # Exit status after Ctrl-C, as a shell reports a process ended by SIGINT.
 EXIT_INTERRUPTED = 130
 # Exit status when an exception inside the experiment (the agent's code, most likely) stopped it.
@@ -51,9 +55,16 @@ def main(argv: list[str] | None = None) -> int:
     commands = parser.add_subparsers(dest="command", required=True)
 
     dmtp = commands.add_parser("dmtp", help="run the delayed-match-to-place experiment", description=run_dmtp_command.__doc__)
-    dmtp.add_argument("--maze", default="open", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
-    dmtp.add_argument("--trials", type=int, default=20, help="trials, each with a new goal (default: 20)")
-    dmtp.add_argument("--runs", type=int, default=4, help="runs per trial (default: 4)")
+    dmtp.add_argument("--maze", help="built-in maze (open, maze1 ... maze4) or a path to a maze JSON file (default: open)")
+    dmtp.add_argument("--trials", type=int, help="trials, each with a new goal (default: 20)")
+    dmtp.add_argument("--runs", type=int, help="runs per trial (default: 4)")
+    dmtp.add_argument(
+        "--schedule",
+        metavar="FILE.json",
+        help="run a schedule of phases instead of --maze/--trials/--runs: each phase its maze (or a seeded change of one), "
+        "trials, runs, goal (new, kept, an earlier phase's, or [x, y]), dry run and whether the agent is told the goal moved "
+        "(see hippo_env.schedule and docs/schedules/)",
+    )
     dmtp.add_argument("--seed", type=non_negative_int, default=0, help="seeds goals, starts, environment and agents (default: 0)")
     dmtp.add_argument(
         "--agent",
@@ -66,7 +77,12 @@ def main(argv: list[str] | None = None) -> int:
         "--overwrite", action="store_true", help="allow a non-empty --out folder: first delete what an earlier dmtp run wrote there"
     )
     dmtp.add_argument("--same-start", action="store_true", help="start every run of a trial from the same place")
-    dmtp.add_argument("--max-steps", type=int, default=None, help="steps per run before it is cut off (default: 10,000)")
+    dmtp.add_argument(
+        "--max-steps",
+        type=int,
+        default=None,
+        help="steps per run before it is cut off (default: 10,000; a schedule's phase may set its own max_steps)",
+    )
     dmtp.add_argument(
         "--action-type", default=None, choices=ACTION_TYPES, help="the action space (default: what the agent asks for, else discrete)"
     )
@@ -78,6 +94,15 @@ def main(argv: list[str] | None = None) -> int:
         metavar="KEY=VALUE",
         help="an argument for gym.make('HippoMaze-v0', ...), e.g. --env n_rays=360 --env odometry=true; VALUE is read as JSON "
         "(true, 3, 0.5, [1, 2]) where it parses, else as a string; overrides the agent's env_kwargs (repeatable)",
+    )
+    dmtp.add_argument(
+        "--agent-config",
+        action="append",
+        default=[],
+        type=_agent_config_argument,
+        metavar="KEY=VALUE",
+        help="a parameter of the agent, e.g. --agent-config model.n_place=500 --agent-config homing=null for hippo (dotted names "
+        "of AgentConfig), or a hyperparameter of dqn/ppo/dynaq; VALUE is read as JSON where it parses, else as a string (repeatable)",
     )
     dmtp.add_argument("--no-figures", action="store_true", help="write dmtp.json only")
     dmtp.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -129,20 +154,30 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run_dmtp_command(args: argparse.Namespace) -> int:
-    """Run DMTP trials with one agent, print each run's indirectness and write dmtp.json and figures.
+    """Run DMTP trials with one agent, or a schedule of phases (--schedule), print each run's
+    indirectness and write dmtp.json, summary.json and figures.
 
     If the agent raises, its traceback is printed and the runs that finished are saved to dmtp.json,
     marked "complete": false, with the exception under "error"."""
     from hippo_env.dmtp import DMTPFailed, DMTPInterrupted, run_dmtp
     from hippo_env.maze import MazeSpec
+    from hippo_env.schedule import Schedule
     from hippomaze.registry import agent_factory
     from hippomaze.report import format_table, write_dmtp_figures
 
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
-    maze = MazeSpec.load(args.maze)
+    schedule, maze = None, None
+    if args.schedule is not None:
+        given = [f"--{name}" for name in ("maze", "trials", "runs") if getattr(args, name) is not None]
+        if given:
+            raise ValueError(f"--schedule names each phase's maze, trials and runs: drop {', '.join(given)}, or drop --schedule")
+        schedule = Schedule.load(args.schedule)
+    else:
+        maze = MazeSpec.load(args.maze if args.maze is not None else DEFAULT_MAZE)
+    overrides = dict(args.agent_config)
     try:
-        factory = agent_factory(args.agent)
+        factory = agent_factory(args.agent, **overrides)
     except ImportError as err:  # a missing optional extra (dqn, ppo): one line says how to install it
         raise ValueError(str(err)) from err
     env_kwargs = dict(args.env)  # run_dmtp puts the agent's own env_kwargs under these
@@ -150,15 +185,19 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
         env_kwargs = {"action_type": args.action_type, **env_kwargs}
     out = prepare_out_dir(Path(args.out), args.overwrite)  # before any work: never run, then fail to save
     maps: dict[str, Any] = {}
+    plain: dict[str, Any] = {}  # a schedule's phases name their own trials and runs
+    if schedule is None:
+        plain = {"trials": DEFAULT_TRIALS if args.trials is None else args.trials, "runs": DEFAULT_RUNS if args.runs is None else args.runs}
     try:
         result = run_dmtp(
             factory,
             maze,
-            trials=args.trials,
-            runs=args.runs,
+            **plain,
+            schedule=schedule,
             seed=args.seed,
             agent_name=args.agent,
             agent_spec=args.agent,
+            agent_overrides=overrides,
             same_start=args.same_start,
             env_kwargs=env_kwargs,
             max_episode_steps=args.max_steps,
@@ -169,7 +208,7 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
         partial = interrupt.result
         path = partial.save(out)
         print(
-            f"hippomaze: interrupted; saved the {len(partial.run_records)} finished runs of {partial.trials * partial.runs} "
+            f"hippomaze: interrupted; saved the {len(partial.run_records)} finished runs of {partial.planned_runs()} "
             f'to {path} (marked "complete": false)',
             file=sys.stderr,
         )
@@ -180,7 +219,7 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
         traceback.print_exception(failure.__cause__, file=sys.stderr)
         print(
             f"hippomaze: error: {partial.error} ({failure.doing}); saved the {len(partial.run_records)} finished runs "
-            f'of {partial.trials * partial.runs} to {path} (marked "complete": false)',
+            f'of {partial.planned_runs()} to {path} (marked "complete": false)',
             file=sys.stderr,
         )
         return EXIT_FAILED
@@ -190,8 +229,9 @@ def run_dmtp_command(args: argparse.Namespace) -> int:
     print(f"wrote {path}")
     if not args.no_figures:
         try:
-            written = write_dmtp_figures(result, maze, out)
-            written += _write_agent_maps(maps, result, maze, out)
+            first_maze = maze if maze is not None else result.phase_mazes[0]  # a schedule's: its first phase's
+            written = write_dmtp_figures(result, first_maze, out)
+            written += _write_agent_maps(maps, result, first_maze, out)
         except KeyboardInterrupt:
             print(f"hippomaze: interrupted while drawing figures; the complete {path} was saved", file=sys.stderr)
             return EXIT_INTERRUPTED
@@ -313,6 +353,21 @@ def _env_argument(text: str) -> tuple[str, Any]:
     key = key.strip()
     if not equals or not key.isidentifier():
         raise argparse.ArgumentTypeError(f"must be KEY=VALUE with KEY an argument name, e.g. n_rays=360 or odometry=true; got {text!r}")
+    try:
+        return key, json.loads(value)
+    except json.JSONDecodeError:
+        return key, value
+
+
+def _agent_config_argument(text: str) -> tuple[str, Any]:
+    """An argparse type: ``KEY=VALUE`` for the agent's factory, KEY a dotted name (``model.n_place``),
+    VALUE read as JSON where it parses (``null`` is None), else kept as a string."""
+    key, equals, value = text.partition("=")
+    key = key.strip()
+    if not equals or not key or not all(part.isidentifier() for part in key.split(".")):
+        raise argparse.ArgumentTypeError(
+            f"must be KEY=VALUE with KEY a parameter name, dotted for a section's, e.g. model.n_place=500 or homing=null; got {text!r}"
+        )
     try:
         return key, json.loads(value)
     except json.JSONDecodeError:
