@@ -272,21 +272,23 @@ class HippocampalAgent:
         surprising bumps (localisation, homing), and the bump's reflexes (the walk's random turn,
         the escape)."""
         dry = self.phase == "dry"
+        pi = self.pi
         # a bump where the map shows no wall is evidence of a look-alike place (a wall it holds explains the bump)
-        surprising = s.bumped and (self.map is None or not self.map.wall_near(self.pi.estimate, s.heading, self.map.config.bump_distance))
-        anchored = self.pi is not None and self.pi.anchored
-        if self.map is not None and anchored:
+        surprising = s.bumped and (
+            self.map is None or pi is None or not self.map.wall_near(pi.estimate, s.heading, self.map.config.bump_distance)
+        )
+        if self.map is not None and pi is not None and pi.anchored:
             if dry or self.total_steps % self.map.config.run_every == 0:
                 mark = self.homing.search_mark if self.homing is not None else None
-                self.map.observe(self.pi.estimate, s.heading, s.ranges, self.max_range, unknown_only=not dry, search_radius=mark)
+                self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range, unknown_only=not dry, search_radius=mark)
             if dry and self.exploration is not None:
                 extra = self.exploration.recruits(self.total_steps)
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
             if dry and s.bumped:
-                self.map.mark_bump(self.pi.estimate, s.heading, self.map.config.bump_distance)
-        if self.localisation is not None and not dry and anchored:
+                self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance)
+        if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)
         if s.bumped:
             self.episode_stats["bumps"] += 1
@@ -303,7 +305,7 @@ class HippocampalAgent:
             self.model.reward.forget_current()
             self.homing.forget()
         self.learn_reward()
-        if self.homing is not None and trusted:
+        if self.homing is not None and self.pi is not None and trusted:
             self.homing.remember(self.pi.estimate)
 
     def learn_reward(self) -> bool:

@@ -143,9 +143,10 @@ class AgentConfig:
         unknown = sorted(set(data) - set(_SECTIONS) - {"version"})
         if unknown:
             raise ValueError(f"unknown AgentConfig section(s) {unknown}; sections: {', '.join(_SECTIONS)}")
-        return cls(
-            **{name: None if value is None else _SECTIONS[name].from_dict(value) for name, value in data.items() if name != "version"}
-        )
+        sections: dict[str, Any] = {
+            name: None if value is None else _SECTIONS[name].from_dict(value) for name, value in data.items() if name != "version"
+        }
+        return cls(**sections)
 
     def _sections(self) -> list[tuple[str, Section | None]]:
         return [(f.name, getattr(self, f.name)) for f in dataclasses.fields(self)]

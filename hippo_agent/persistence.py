@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import zipfile
+from collections.abc import Callable
 from typing import Any
 
 import gymnasium as gym
@@ -31,7 +32,7 @@ PARTS = ("model", "pi", "map", "localisation", "exploration", "homing", "reflexe
 """The agent's attributes that save their own state (``None`` ones, faculties that are off, are skipped)."""
 
 # the agent's own state: attribute -> how load reads it back
-_AGENT_STATE = {
+_AGENT_STATE: dict[str, Callable[[Any], Any]] = {
     "phase": str,
     "trial": int,
     "started": bool,

@@ -63,7 +63,7 @@ def change_maze(
     if change not in CHANGES:
         raise ValueError(f"change {change!r} is unknown; allowed: {', '.join(CHANGES)}")
     rng = np.random.default_rng(seed)
-    clear = [tuple(map(float, p)) for p in keep_clear]
+    clear = [(float(p[0]), float(p[1])) for p in keep_clear]
     if change == "blocks":
         obstacles = _blocks(spec, rng, count, side, clear)
         label = f"blocks{count}"
@@ -73,7 +73,7 @@ def change_maze(
     else:
         obstacles = _barrier(spec, rng, clear)
         label = "barrier"
-    changed = MazeSpec(name or f"{spec.name}+{label}-{seed}", spec.size, obstacles, spec.goal)
+    changed = MazeSpec(name or f"{spec.name}+{label}-{seed}", spec.size, tuple(obstacles), spec.goal)
     changed.check_connected(ROBOT_RADIUS)
     return changed
 
@@ -110,7 +110,7 @@ def _blocks(spec: MazeSpec, rng: np.random.Generator, count: int, side: float, c
         block = _rectangle(x0, y0, x0 + side, y0 + side)
         if not _clear_of(block, walls, spec, BLOCK_GAP) or any(_distance_to_box(p, x0, y0, side) < KEEP_CLEAR for p in clear):
             continue
-        trial = MazeSpec(spec.name, spec.size, [*obstacles, block])
+        trial = MazeSpec(spec.name, spec.size, (*obstacles, block))
         try:
             trial.check_connected(ROBOT_RADIUS)
         except ValueError:
@@ -204,7 +204,7 @@ def _barrier(spec: MazeSpec, rng: np.random.Generator, clear: list[Point]) -> li
         bar = _bar(corner, target)
         if any(_point_segment_distance(p, corner, target) < KEEP_CLEAR for p in clear):
             continue
-        trial = MazeSpec(spec.name, spec.size, [*spec.obstacles, bar])
+        trial = MazeSpec(spec.name, spec.size, (*spec.obstacles, bar))
         try:
             trial.check_connected(ROBOT_RADIUS)
         except ValueError:

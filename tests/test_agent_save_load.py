@@ -323,7 +323,7 @@ def test_corrupt_truncated_and_foreign_files_raise_value_error(tmp_path):
         HippocampalAgent.load(tmp_path / "flat_config.npz")
     with pytest.raises(ValueError, match="the state of 'pi' is missing"):
         HippocampalAgent.load(tmp_path / "no_pi_state.npz")
-    with pytest.raises(ValueError, match="homing's arrays 'found_sum' \(3 places\)"):
+    with pytest.raises(ValueError, match=r"homing's arrays 'found_sum' \(3 places\)"):
         HippocampalAgent.load(tmp_path / "bad_found.npz")
     with pytest.raises(ValueError, match="path integration's array 'centres'"):
         HippocampalAgent.load(tmp_path / "bad_centres.npz")
