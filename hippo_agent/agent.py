@@ -277,16 +277,21 @@ class HippocampalAgent:
         surprising = s.bumped and (
             self.map is None or pi is None or not self.map.wall_near(pi.estimate, s.heading, self.map.config.bump_distance)
         )
-        if self.map is not None and pi is not None and pi.anchored:
-            if dry or self.total_steps % self.map.config.run_every == 0:
+        # in runs the map is written only where the robot is well placed: a misplaced scan would
+        # write walls where there are none
+        placed = pi is not None and (pi.anchored if dry or self.localisation is None else self.localisation.trusted)
+        if self.map is not None and pi is not None and placed:
+            if dry:
+                self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)
+            elif self.total_steps % self.map.config.run_every == 0:
                 mark = self.homing.search_mark if self.homing is not None else None
-                self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range, unknown_only=not dry, search_radius=mark)
+                self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark)
             if dry and self.exploration is not None:
                 extra = self.exploration.recruits(self.total_steps)
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
-            if dry and s.bumped:
+            if s.bumped and (dry or self.map.config.change_evidence is not None):
                 self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)

@@ -13,6 +13,7 @@ __all__ = [
     "lines_clear",
     "mark_disk",
     "path_to",
+    "revise_scan",
     "scan_agreement",
     "search",
     "search_disk",
@@ -67,10 +68,10 @@ def enter_scan(
 
 @njit(cache=True)
 def scan_agreement(
-    free, hits, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range, out
+    free, hits, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range, short_weight, out
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
-    ``(ox, oy)`` itself ``with_origin``."""
+    ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``."""
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -83,7 +84,7 @@ def scan_agreement(
         x = (ox if k < 0 else ox + points[k, 0]) + extent
         y = (oy if k < 0 else oy + points[k, 1]) + extent
         total = 0.0
-        counted = 0
+        counted = 0.0
         for q in range(m):
             d = dist[q]
             far = not (d < hit_range and d < max_range * 0.999)
@@ -98,15 +99,15 @@ def scan_agreement(
                     break
                 t += 0.5
             if through:
-                counted += 1
+                counted += 1.0
                 total -= 1.0
                 continue
             if far:  # a long ray's end is too far to place on the map; only its free stretch counts
                 continue
-            counted += 1
             i = _grid_index(x + d * c, cell, inv_cell)
             j = _grid_index(y + d * s, cell, inv_cell)
             if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+                counted += 1.0
                 continue
             wall = False
             for a in range(i - 1, i + 2):
@@ -114,10 +115,87 @@ def scan_agreement(
                     if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
                         wall = True
             if wall:
+                counted += 1.0
                 total += 1.0
-            elif free[i, j] > 0:
-                total -= 1.0
+            elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
+                counted += short_weight
+                total -= short_weight
+            else:
+                counted += 1.0
         out[p] = total / counted if counted else 0.0
+
+
+@njit(cache=True)
+def revise_scan(
+    free, hits, change, stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, evidence
+):  # pragma: no cover - compiled
+    """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
+    cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
+    through its middle (two samples in the cell, the ray ending at least a cell beyond) and a
+    boundary where the map knows free ground with no wall beside it each add one to the cell's
+    ``change`` count, at most once per scan (``stamp``); at ``evidence`` the cell is rewritten (the
+    wall cleared, the boundary made a wall). A reading that agrees with a cell resets its count.
+    Returns how many cells changed."""
+    n = free.shape[0]
+    changed = 0
+    n_rays = ranges.size
+    step = cell * 0.5
+    for r in range(0, n_rays, stride):
+        angle = heading + 2.0 * math.pi * r / n_rays
+        c, s = math.cos(angle), math.sin(angle)
+        d = float(ranges[r])
+        reach = min(d - step, free_range)
+        t = 0.0
+        last_i, last_j, inside = -1, -1, 0
+        while t < reach:
+            i = _grid_index(x + t * c + extent, cell, inv_cell)
+            j = _grid_index(y + t * s + extent, cell, inv_cell)
+            if i < 0 or j < 0 or i >= n or j >= n:
+                break
+            if i != last_i or j != last_j:
+                last_i, last_j, inside = i, j, 0
+                if free[i, j] == 0 and hits[i, j] == 0:
+                    free[i, j] = 1
+                    changed += 1
+                elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
+                    change[i, j] = 0  # free, as the map holds
+            inside += 1
+            wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
+            if wall and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
+                stamp[i, j] = scan_id
+                change[i, j] += 1
+                if change[i, j] >= evidence:  # the wall is gone
+                    hits[i, j] = 0
+                    free[i, j] = max(free[i, j], 1)
+                    change[i, j] = 0
+                    changed += 1
+            t += step
+        if not (d < hit_range and d < max_range * 0.999):
+            continue
+        i = _grid_index(x + d * c + extent, cell, inv_cell)
+        j = _grid_index(y + d * s + extent, cell, inv_cell)
+        if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+            continue
+        if free[i, j] == 0 and hits[i, j] == 0:
+            hits[i, j] = 1
+            changed += 1
+            continue
+        near_wall = False
+        for a in range(i - 1, i + 2):
+            for b in range(j - 1, j + 2):
+                if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
+                    near_wall = True
+        if near_wall:
+            if stamp[i, j] != scan_id:
+                change[i, j] = 0  # a boundary where the map holds one
+        elif stamp[i, j] != scan_id:
+            stamp[i, j] = scan_id
+            change[i, j] += 1
+            if change[i, j] >= evidence:  # a new wall
+                hits[i, j] = min(int(free[i, j]) + 1, 65535)
+                change[i, j] = 0
+                changed += 1
+    return changed
 
 
 @njit(cache=True)

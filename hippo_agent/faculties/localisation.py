@@ -16,6 +16,14 @@ surroundings beyond the nearest walls, where they differ (a door here, not there
   than the estimate by ``doubt_margin``, the estimate is taken to be at a look-alike place;
 - **surprising bumps**: a running rate of bumps where the map shows no wall; past
   ``lost_bump_rate``, the robot anchors afresh.
+
+The fit is a beam model's (Thrun, Burgard and Fox, *Probabilistic Robotics*, ch. 6, as AMCL uses
+it): a ray is explained by a wall the map holds where it ended (a hit), by an obstacle the map does
+not hold (a short reading: the world changed, or a wrong place), or not at all (a ray through a
+wall the map holds: a wrong place, or a wall removed). Short readings weigh ``short_weight``, so new
+walls round the robot lower the fit at its true place little, and the map written while it is well
+placed (:meth:`ExplorationMap.revise`) soon holds them. An estimate is anchored only on ground the
+map knows: a place off the map cannot be where the robot stands.
 """
 
 from __future__ import annotations
@@ -66,6 +74,11 @@ class LocalisationConfig(Section):
     following its map in the wrong room, often."""
     bump_rate_steps: int = param(50, ge=1)
     """The window (steps) of that running rate."""
+    short_weight: float = param(0.25, ge=0, le=1)
+    """In runs, how much a reading shorter than the map predicts (a boundary on ground the map
+    knows free) counts in the scan's fit, against 1 for a ray through a wall: the beam model's
+    "short" readings, explained by an obstacle the map does not hold yet as well as by a wrong
+    place (1: a new obstacle counts fully against the place; 0: not at all)."""
 
 
 class Localisation:
@@ -125,7 +138,7 @@ class Localisation:
         def likelihood(particles: np.ndarray) -> np.ndarray | None:
             if dry or self.pi.anchored:
                 return None
-            return np.exp(self.config.beta * self.map.scan_agreement(particles, heading, ranges, self.max_range))
+            return np.exp(self.config.beta * self._fit(particles, heading, ranges))
 
         def proposals() -> np.ndarray | None:
             c = self.config
@@ -134,11 +147,15 @@ class Localisation:
             candidates = self._walkable()
             if candidates.shape[0] == 0:
                 return None
-            fit = self.map.scan_agreement(candidates, heading, ranges, self.max_range)
+            fit = self._fit(candidates, heading, ranges)
             p = np.exp(c.beta * (fit - fit.max()))
             return candidates[self.rng.choice(fit.size, size=c.proposals, p=p / p.sum())]
 
         return likelihood, proposals
+
+    def _fit(self, points: np.ndarray, heading: float, ranges: np.ndarray, around: np.ndarray | None = None) -> np.ndarray:
+        """The beam model's fit of the scan to the map from each of ``points`` (:meth:`ExplorationMap.scan_agreement`)."""
+        return self.map.scan_agreement(points, heading, ranges, self.max_range, around, self.config.short_weight)
 
     def _walkable(self) -> np.ndarray:
         if self._candidates is None:  # (the map does not change while the robot is lost)
@@ -152,13 +169,16 @@ class Localisation:
         low or a look-alike place fits better by ``doubt_margin``."""
         if dry:
             return
+        if just_anchored and not self.map.known_ground(self.pi.estimate):
+            self.relocalise()  # off the map: not where the robot can stand
+            return
         if just_anchored:
             self._pick_look_alikes(ranges, heading)
         every = self.config.check_every
         if not self.pi.anchored or step % every:
             return
         c = self.config
-        fits = self.map.scan_agreement(self.look_alikes, heading, ranges, self.max_range, around=self.pi.estimate)
+        fits = self._fit(self.look_alikes, heading, ranges, around=self.pi.estimate)
         rate = min(1.0, c.fit_rate * every)
         own = float(fits[0])
         self.fit = (1.0 - rate) * self.fit + rate * own
@@ -180,7 +200,7 @@ class Localisation:
         if c.look_alikes == 0:
             return
         candidates = self._walkable()
-        fit = self.map.scan_agreement(candidates, heading, ranges, self.max_range)
+        fit = self._fit(candidates, heading, ranges)
         offsets = candidates - self.pi.estimate
         chosen: list[int] = []
         for i in np.argsort(-fit, kind="stable"):
@@ -191,7 +211,7 @@ class Localisation:
         if chosen:
             self.look_alikes = offsets[chosen]
             self.look_alike_fit = fit[chosen]
-            self.own_fit = float(self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range)[0])
+            self.own_fit = float(self._fit(self.pi.estimate[None, :], heading, ranges)[0])
 
     def count_bump(self, surprising: bool) -> None:
         """A step of a run while anchored: the running rate of bumps where the map shows no wall;

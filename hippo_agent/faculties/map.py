@@ -44,6 +44,7 @@ from hippo_agent.faculties._map_kernels import (
     lines_clear,
     mark_disk,
     path_to,
+    revise_scan,
     scan_agreement,
     search,
     search_disk,
@@ -89,6 +90,10 @@ class MapConfig(Section):
     run_every: int = param(2, ge=1)
     """In runs, a scan enters the map every this many steps (the dry run maps every scan): at
     0.15 m a step, every second scan lands within a cell of the last."""
+    change_evidence: int | None = param(5, ge=1)
+    """In runs, while the robot is well localised, a cell the map holds is rewritten once this many
+    scans in a row disagree with it (a wall crossed by rays: gone; a boundary on free ground: a new
+    wall); ``None``: runs enter only cells the map knows nothing of, the world taken not to change."""
 
 
 class ExplorationMap:
@@ -116,6 +121,10 @@ class ExplorationMap:
         self.hits = np.zeros((n, n), dtype=np.uint16)
         self.visited = np.zeros((n, n), dtype=np.bool_)
         self.searched = np.zeros((n, n), dtype=np.bool_)
+        # scans in a row that disagreed with a cell (revise), and the last scan that counted there
+        self.change = np.zeros((n, n), dtype=np.uint16)
+        self._scan_stamp = np.zeros((n, n), dtype=np.int32)
+        self._scan_id = 0
         # scratch for the search: a stamp per cell (which search reached it), its parent, a queue
         self._stamp = np.zeros(n * n, dtype=np.int32)
         self._parent = np.zeros(n * n, dtype=np.int32)
@@ -159,9 +168,32 @@ class ExplorationMap:
             float(max_range), self.extent, self.cell, self._inv_cell, self.free_range, self.hit_range, unknown_only,
         ):  # fmt: skip
             self.revision += 1
+        self._mark(position, search_radius)
+
+    def _mark(self, position: np.ndarray, search_radius: float | None) -> None:
+        """Mark the ground round ``position`` visited, and searched within ``search_radius`` (by default the map's)."""
         mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         radius = self.search_radius if search_radius is None else float(search_radius)
         mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
+
+    def revise(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, search_radius: float | None = None) -> None:
+        """Enter a run's scan seen from ``position`` as :meth:`observe` does with ``unknown_only``,
+        and revise what the map holds where the scan keeps disagreeing with it: a wall that rays
+        cross is cleared, a boundary on free ground becomes a wall, once ``change_evidence`` scans in a
+        row say so (call only while the position is trusted: a misplaced scan disagrees everywhere)."""
+        evidence = self.config.change_evidence
+        if evidence is None:
+            self.observe(position, heading, ranges, max_range, unknown_only=True, search_radius=search_radius)
+            return
+        stride = max(1, round(ranges.size * self.ray_stride_deg / 360.0))
+        self._scan_id += 1
+        if revise_scan(
+            self.free, self.hits, self.change, self._scan_stamp, self._scan_id, float(position[0]), float(position[1]),
+            float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
+            self.hit_range, int(evidence),
+        ):  # fmt: skip
+            self.revision += 1
+        self._mark(position, search_radius)
 
     def forget_searched_near(self, centre: np.ndarray, radius: float) -> None:
         """Count the ground within ``radius`` of ``centre`` as not searched in this run."""
@@ -191,7 +223,13 @@ class ExplorationMap:
         self.revision += 1
 
     def scan_agreement(
-        self, points: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, around: np.ndarray | None = None
+        self,
+        points: np.ndarray,
+        heading: float,
+        ranges: np.ndarray,
+        max_range: float,
+        around: np.ndarray | None = None,
+        short_weight: float = 1.0,
     ) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
         map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
@@ -204,13 +242,20 @@ class ExplorationMap:
         wall from a look-alike room whose door is elsewhere.
 
         With ``around`` (a position), ``points`` are offsets from it, and the fit at ``around`` itself
-        comes first: ``len(points) + 1`` fits."""
+        comes first: ``len(points) + 1`` fits.
+
+        ``short_weight`` is how much a *short reading* (a boundary where the map knows free ground)
+        counts, against 1 for every other judged ray. In the beam model of a rangefinder (Thrun,
+        Burgard and Fox, *Probabilistic Robotics*, ch. 6) a reading shorter than the map predicts
+        is also explained by an object the map does not hold (its "short" component): with
+        ``short_weight`` below 1, a new obstacle costs a place less of its fit than a ray through a
+        wall, which nothing but a wrong place (or a wall since removed) explains."""
         x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         scan_agreement(
             self.free, self.hits, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
-            self.cell, self._inv_cell, self.hit_range, out,
+            self.cell, self._inv_cell, self.hit_range, float(short_weight), out,
         )  # fmt: skip
         return out
 
@@ -369,6 +414,13 @@ class ExplorationMap:
         m = walkable_points(self.free, self.hits, stride, self.extent, self.cell, out)
         return out[:m].copy()
 
+    def known_ground(self, point: np.ndarray) -> bool:
+        """Whether the map knows the cell holding ``point``, or one beside it, as free ground."""
+        i, j = self.index(float(point[0]), float(point[1]))
+        rows, cols = slice(max(i - 1, 0), max(i + 2, 0)), slice(max(j - 1, 0), max(j + 2, 0))
+        free, hits = self.free[rows, cols], self.hits[rows, cols]
+        return bool(np.any((free > 0) & (hits < free)))
+
     @property
     def known_free(self) -> np.ndarray:
         """Cells the rays have shown free (a boolean grid)."""
@@ -385,6 +437,8 @@ class ExplorationMap:
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
+        if "change" not in arrays:  # (a save from before the map revised itself)
+            arrays = {**arrays, "change": np.zeros_like(self.change)}
         for name in _GRIDS:
             ref, arr = getattr(self, name), arrays.get(name)
             if arr is None or arr.shape != ref.shape:
@@ -393,4 +447,4 @@ class ExplorationMap:
         self.grids_replaced()
 
 
-_GRIDS = ("free", "hits", "visited", "searched")
+_GRIDS = ("free", "hits", "visited", "searched", "change")
