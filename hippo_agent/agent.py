@@ -38,8 +38,9 @@ from hippo_agent.faculties.exploration import Exploration
 from hippo_agent.faculties.homing import Homing
 from hippo_agent.faculties.localisation import Localisation
 from hippo_agent.faculties.map import ExplorationMap
-from hippo_agent.faculties.path_integration import PathIntegrator
+from hippo_agent.faculties.path_integration import PathIntegrator, odometry_step
 from hippo_agent.faculties.reflexes import Reflexes
+from hippo_agent.faculties.worlds import Worlds
 from hippo_agent.paper_model import PaperModel
 from hippo_env.checks import check_int
 from hippo_env.dmtp import rollout
@@ -108,11 +109,12 @@ class HippocampalAgent:
         self.reflexes = Reflexes(c.reflexes) if c.reflexes else None
         self.pi = PathIntegrator(c.path_integration, c.model.n_place, c.model.k, self.rng) if c.path_integration else None
         self.map = ExplorationMap(c.map) if c.map else None
-        self.localisation = self.exploration = self.homing = None
+        self.localisation = self.exploration = self.homing = self.worlds = None
         if self.pi is not None and self.map is not None:  # (AgentConfig checks that the faculties that need them have them)
             self.localisation = Localisation(c.localisation, self.map, self.pi, self.max_range, self.rng) if c.localisation else None
             self.exploration = Exploration(c.exploration, self.map, self.pi, self.model, self.rng) if c.exploration else None
             self.homing = Homing(c.homing, self.map, self.pi, self.localisation) if c.homing else None
+            self.worlds = Worlds(c.worlds, self.map, self.pi, self.model, self.homing, self.max_range) if c.worlds else None
         self.phase = "trial"  # "dry" inside dry_run(), else "trial"
         self.trial = -1
         self.started = False  # reset() has been called for the current run
@@ -146,20 +148,27 @@ class HippocampalAgent:
     def dry_run(self, env: Any) -> None:
         """Goal-free exploration with no reward learning: the random walk for
         ``model.dry_run_steps`` steps or, with directed exploration, the sweep and its transits
-        until they are done (at most ``model.dry_run_steps`` steps), then rest. Resets ``env``
-        with ``options={"goal": None}`` (and again whenever it truncates)."""
+        until they are done (at most ``model.dry_run_steps`` steps, or more in a large world:
+        ``exploration.dry_run_steps_per_m2``), then rest. Resets ``env`` with
+        ``options={"goal": None}`` (and again whenever it truncates). With the faculty ``worlds``,
+        a world the agent knows (recognised by its first scan) needs no dry run: the agent enters
+        it and returns."""
         if self.config.model.dry_run_steps == 0:
             return
+        obs, info = env.reset(options={"goal": None})
+        if self.worlds is not None and self.map is not None and self.map.explored_area() > 0.0:
+            obs, info, known = self._which_world(env, obs, info)
+            if known:
+                return
         self.phase = "dry"
         if self.exploration is not None:
             self.exploration.start_dry_run()
         try:
-            obs, info = env.reset(options={"goal": None})
             self.reset(obs, info)
-            remaining = self.config.model.dry_run_steps
-            while remaining > 0 and not self._dry_run_done():
-                end = rollout(env, self, obs, max_steps=remaining, keep_going=lambda: not self._dry_run_done())
-                remaining -= end.steps
+            taken = 0
+            while taken < self._dry_run_cap() and not self._dry_run_done():
+                end = rollout(env, self, obs, max_steps=self._dry_run_cap() - taken, keep_going=lambda: not self._dry_run_done())
+                taken += end.steps
                 obs = end.observation
                 if end.terminated or end.truncated:
                     obs, info = env.reset(options={"goal": None})
@@ -171,6 +180,41 @@ class HippocampalAgent:
                 self.exploration.end_dry_run()
             self.phase = "trial"
             self.started = False
+
+    def _dry_run_cap(self) -> int:
+        """The dry run's most steps: ``model.dry_run_steps``, or more as the map finds more ground."""
+        cap = self.config.model.dry_run_steps
+        if self.exploration is not None and self.map is not None:
+            cap = max(cap, int(self.exploration.config.dry_run_steps_per_m2 * self.map.explored_area()))
+        return cap
+
+    def _which_world(self, env: Any, obs: dict, info: dict) -> tuple[dict, dict, bool]:
+        """Before a dry run, with a world mapped already: a glimpse of ``worlds.glimpse_steps``
+        steps of the random walk, then enter the known world it fits (``True``: no dry run
+        needed) or start a new one. Returns the last observation, its info, and whether the world is known."""
+        assert self.worlds is not None
+        ranges, _, heading = spaces.unpack(obs)
+        self.worlds.start_glimpse(ranges, heading)
+        walk = self.model.walk
+        done = self.worlds.config.glimpse_steps == 0
+        while not done:
+            action = spaces.to_action(walk.step(), self.action_kind, self.n_actions, self.config.model.discrete_rounding, self.rng)
+            obs, _, terminated, truncated, info = env.step(action)
+            ranges, heading_vec, heading = spaces.unpack(obs)
+            if info.get("collision", False):
+                walk.turn_at_random()
+            done = self.worlds.add_to_glimpse(ranges, heading, odometry_step(obs["odometry"], heading_vec))
+            if terminated or truncated:
+                obs, info = env.reset(options={"goal": None})
+                break
+        known = self.worlds.recognise()
+        self.worlds.glimpse = []
+        if known is None:
+            self.worlds.new_world()
+        else:
+            self.worlds.enter(known)
+            self.started = False
+        return obs, info, known is not None
 
     def _dry_run_done(self) -> bool:
         return self.exploration is not None and self.exploration.stage == "done"
@@ -185,6 +229,10 @@ class HippocampalAgent:
     def reset(self, observation: dict, info: dict | None = None) -> None:
         """A run begins: the robot was put down somewhere; the network settles on its first scan."""
         senses = self._sense(observation, info)
+        if self.worlds is not None:  # a glimpse of the run's first steps tells which world this is
+            self.worlds.glimpse = []
+            if self.phase == "trial" and self.worlds.kept:
+                self.worlds.start_glimpse(senses.ranges, senses.heading)
         for faculty in (self.reflexes, self.localisation, self.homing):
             if faculty is not None:
                 faculty.reset()
@@ -207,6 +255,8 @@ class HippocampalAgent:
     def observe(self, action: Any, observation: dict, reward: float, terminated: bool, truncated: bool, info: dict) -> None:
         """Sense, localise and learn from the new observation; replay on reward."""
         senses = self._sense(observation, info)
+        if self.worlds is not None and self.worlds.glimpse:
+            self._glimpse(senses)
         trusted = self._localise(senses)
         dry = self.phase == "dry"
         self.model.learn(senses.b, senses.h, trusted, dry, senses.bumped)  # eqs. 5-7
@@ -241,6 +291,22 @@ class HippocampalAgent:
         self.pi.correct(*self.pi.vote(place), *self._evidence(s))
         if self.pi.anchored:
             self.model.settle(s.b, self.pi.drive())
+
+    def _glimpse(self, s: Senses) -> None:
+        """A step of a run's glimpse; at its end, move to another known world if that fits it
+        better (the estimate anchored afresh in that world's map)."""
+        assert self.worlds is not None
+        if not self.worlds.add_to_glimpse(s.ranges, s.heading, odometry_step(s.odometry, s.heading_vec)):
+            return
+        other = self.worlds.elsewhere()
+        self.worlds.glimpse = []
+        if other is not None:
+            self.worlds.enter(other)
+            for faculty in (self.localisation, self.homing):
+                if faculty is not None:
+                    faculty.reset()
+            if self.map is not None:
+                self.map.new_run()
 
     def _localise(self, s: Senses) -> bool:
         """The place cells' update (eqs. 3-4) and, with path integration, the belief's: moved by

@@ -23,6 +23,7 @@ from hippo_agent.faculties.localisation import LocalisationConfig
 from hippo_agent.faculties.map import MapConfig
 from hippo_agent.faculties.path_integration import PathIntegrationConfig
 from hippo_agent.faculties.reflexes import ReflexConfig
+from hippo_agent.faculties.worlds import WorldsConfig
 from hippo_agent.paper_model import ModelConfig
 from hippo_agent.sections import Section
 
@@ -35,6 +36,7 @@ __all__ = [
     "ModelConfig",
     "PathIntegrationConfig",
     "ReflexConfig",
+    "WorldsConfig",
 ]
 
 CONFIG_VERSION = 2
@@ -46,6 +48,7 @@ _NEEDS = {
     "localisation": ("path_integration", "map"),
     "exploration": ("path_integration", "map"),
     "homing": ("path_integration", "map"),
+    "worlds": ("path_integration", "map"),
 }
 
 
@@ -72,6 +75,8 @@ class AgentConfig:
     """Directed exploration, rest, and recruitment (:mod:`hippo_agent.faculties.exploration`); ``None``: the random walk."""
     homing: HomingConfig | None = field(default_factory=HomingConfig)
     """Back to where the goal was found (:mod:`hippo_agent.faculties.homing`)."""
+    worlds: WorldsConfig | None = field(default_factory=WorldsConfig)
+    """Several worlds, each with its own map and memories, recognised by the scan (:mod:`hippo_agent.faculties.worlds`)."""
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -93,7 +98,7 @@ class AgentConfig:
         paper: dict[str, Any] = {
             "model": ModelConfig.paper(),
             "reflexes": ReflexConfig(escape_after="exploiting", clearance=None),
-            **{name: None for name in ("path_integration", "map", "localisation", "exploration", "homing")},
+            **{name: None for name in ("path_integration", "map", "localisation", "exploration", "homing", "worlds")},
         }
         return cls(**{**paper, **changes})
 
@@ -164,4 +169,5 @@ _SECTIONS: dict[str, type[Any]] = {
     "localisation": LocalisationConfig,
     "exploration": ExplorationConfig,
     "homing": HomingConfig,
+    "worlds": WorldsConfig,
 }

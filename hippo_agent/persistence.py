@@ -28,7 +28,7 @@ FORMAT_VERSION = 5
 """Raised whenever what a file holds changes; files of another version are refused, naming it.
 Version 4 (hippomaze 0.1) kept the agent as one flat object; version 5 saves each part's own state."""
 
-PARTS = ("model", "pi", "map", "localisation", "exploration", "homing", "reflexes")
+PARTS = ("model", "pi", "map", "localisation", "exploration", "homing", "reflexes", "worlds")
 """The agent's attributes that save their own state (``None`` ones, faculties that are off, are skipped)."""
 
 # the agent's own state: attribute -> how load reads it back
@@ -117,6 +117,8 @@ def _restore(agent: Any, meta: dict[str, Any], arrays: dict[str, np.ndarray]) ->
         if part is None:
             continue
         if name not in parts:
+            if name == "worlds":
+                continue  # (a save from before the agent kept several worlds: it knows one)
             raise ValueError(f"the state of {name!r} is missing")
         prefix = f"{name}."
         part.load_state(parts[name], {key[len(prefix) :]: value for key, value in arrays.items() if key.startswith(prefix)})

@@ -39,7 +39,7 @@ import numpy as np
 from hippo_agent.cells import PlaceCells, _kernels
 from hippo_agent.sections import Section, param
 
-__all__ = ["PathIntegrationConfig", "PathIntegrator"]
+__all__ = ["PathIntegrationConfig", "PathIntegrator", "odometry_step"]
 
 
 @dataclass(frozen=True)
@@ -109,6 +109,18 @@ class PathIntegrationConfig(Section):
     rule_out_radius: float = param(2.0, ge=0)
     """When the estimate is found wrong (a failed homing search), samples within this distance (m)
     of where it was, carried along by odometry, are weighed down until it is anchored again (0: off)."""
+
+
+def odometry_step(odometry: Any, heading_vec: np.ndarray) -> np.ndarray:
+    """The encoders' (forward, left) displacement rotated by the compass: the step in the frame."""
+    try:
+        forward, left = np.asarray(odometry, dtype=np.float64).tolist()  # (floats: faster arithmetic)
+    except (TypeError, ValueError) as exc:
+        raise ValueError("observation 'odometry' must be (forward, left) in metres: path integration needs it") from exc
+    hx, hy = heading_vec.tolist()
+    norm = math.hypot(hx, hy) or 1.0
+    c, s = hx / norm, hy / norm
+    return np.array([c * forward - s * left, s * forward + c * left])
 
 
 RULED_OUT_WEIGHT = 1e-3
@@ -217,14 +229,7 @@ class PathIntegrator:
 
     def move_by_odometry(self, odometry: Any, heading_vec: np.ndarray) -> None:
         """Path integration: the encoders' (forward, left) displacement rotated by the compass."""
-        try:
-            forward, left = np.asarray(odometry, dtype=np.float64).tolist()  # (floats: faster arithmetic)
-        except (TypeError, ValueError) as exc:
-            raise ValueError("observation 'odometry' must be (forward, left) in metres: path integration needs it") from exc
-        hx, hy = heading_vec.tolist()
-        norm = math.hypot(hx, hy) or 1.0
-        c, s = hx / norm, hy / norm
-        self.move(np.array([c * forward - s * left, s * forward + c * left]))
+        self.move(odometry_step(odometry, heading_vec))
 
     # ------------------------------------------------------------------ the belief
     def start_run(self) -> None:
