@@ -55,7 +55,7 @@ class CoverageArgs:
 def random_walk_config(steps: int) -> AgentConfig:
     """The default model before directed exploration: path integration, no map, a random walk of ``steps`` steps."""
     return AgentConfig(
-        map=None, localisation=None, exploration=None, homing=None, reflexes=ReflexConfig(escape_after="exploiting")
+        map=None, localisation=None, exploration=None, homing=None, worlds=None, reflexes=ReflexConfig(escape_after="exploiting")
     ).with_values({"model.dry_run_steps": steps, "path_integration.min_anchor_steps": 0})
 
 

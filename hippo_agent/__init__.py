@@ -17,6 +17,7 @@ from hippo_agent.config import (
     ModelConfig,
     PathIntegrationConfig,
     ReflexConfig,
+    WorldsConfig,
 )
 from hippo_agent.paper_model import PaperModel
 from hippo_env import __version__ as __version__
@@ -32,4 +33,5 @@ __all__ = [
     "PaperModel",
     "PathIntegrationConfig",
     "ReflexConfig",
+    "WorldsConfig",
 ]

@@ -45,7 +45,10 @@ from hippo_agent.paper_model import PaperModel
 from hippo_env.checks import check_int
 from hippo_env.dmtp import rollout
 
-__all__ = ["HippocampalAgent", "Senses"]
+__all__ = ["DRY_RUN_STEPS", "HippocampalAgent", "Senses"]
+
+DRY_RUN_STEPS = 10_000
+"""The dry run's steps when ``model.dry_run_steps`` is None (at least, with directed exploration)."""
 
 
 @dataclass
@@ -148,8 +151,8 @@ class HippocampalAgent:
     def dry_run(self, env: Any) -> None:
         """Goal-free exploration with no reward learning: the random walk for
         ``model.dry_run_steps`` steps or, with directed exploration, the sweep and its transits
-        until they are done (at most ``model.dry_run_steps`` steps, or more in a large world:
-        ``exploration.dry_run_steps_per_m2``), then rest. Resets ``env`` with
+        until they are done (at most ``model.dry_run_steps`` steps; by default a cap that grows
+        with the ground the map finds), then rest. Resets ``env`` with
         ``options={"goal": None}`` (and again whenever it truncates). With the faculty ``worlds``,
         a world the agent knows (recognised by its first scan) needs no dry run: the agent enters
         it and returns."""
@@ -182,11 +185,14 @@ class HippocampalAgent:
             self.started = False
 
     def _dry_run_cap(self) -> int:
-        """The dry run's most steps: ``model.dry_run_steps``, or more as the map finds more ground."""
-        cap = self.config.model.dry_run_steps
+        """The dry run's most steps: ``model.dry_run_steps``; if None, :data:`DRY_RUN_STEPS` or,
+        with directed exploration, more as the map finds more ground."""
+        steps = self.config.model.dry_run_steps
+        if steps is not None:
+            return steps
         if self.exploration is not None and self.map is not None:
-            cap = max(cap, int(self.exploration.config.dry_run_steps_per_m2 * self.map.explored_area()))
-        return cap
+            return max(DRY_RUN_STEPS, int(self.exploration.config.dry_run_steps_per_m2 * self.map.explored_area()))
+        return DRY_RUN_STEPS
 
     def _which_world(self, env: Any, obs: dict, info: dict) -> tuple[dict, dict, bool]:
         """Before a dry run, with a world mapped already: a glimpse of ``worlds.glimpse_steps``

@@ -138,9 +138,11 @@ class ModelConfig(Section):
     """How an intended heading becomes one of the discrete actions: ``"stochastic"`` takes the
     neighbouring action toward it with probability equal to the fraction of the gap, so the mean
     direction is the intended one; ``"nearest"`` rounds."""
-    dry_run_steps: int = param(10000, ge=0)
+    dry_run_steps: int | None = param(None, ge=0)
     """Steps of the dry run: exactly this many for the random walk, at most this many when the
-    faculty ``exploration`` ends it by itself (arenas over 20 m need more)."""
+    faculty ``exploration`` ends it by itself. ``None``: 10,000 for the random walk; with
+    ``exploration``, at least 10,000 and more as the map finds ground
+    (``exploration.dry_run_steps_per_m2``), so a large world's dry run is not cut short."""
 
     def _check(self) -> None:
         if self.n_hd % 2:

@@ -10,6 +10,8 @@ import math
 
 import gymnasium as gym
 import numpy as np
+
+import hippo_agent.agent as agent_module
 import pytest
 from agent_helpers import DISCRETE, HEADING, SMALL, drive_run, make_env, obs_space
 
@@ -68,7 +70,7 @@ def test_the_agent_has_the_parts_its_config_turns_on(paper):
         assert agent.localisation.map is agent.map is agent.exploration.map is agent.homing.map
         assert agent.localisation.pi is agent.pi is agent.exploration.pi is agent.homing.pi
         assert agent.pi.rng is agent.rng is agent.model.rng is agent.localisation.rng is agent.exploration.rng
-    no_map = AgentConfig(map=None, localisation=None, exploration=None, homing=None)
+    no_map = AgentConfig(map=None, localisation=None, exploration=None, homing=None, worlds=None)
     alone = HippocampalAgent(obs_space(), DISCRETE, no_map.with_values({"model.n_place": 20}), seed=0)
     assert isinstance(alone.pi, PathIntegrator) and alone.map is None and alone.homing is None
 
@@ -133,7 +135,7 @@ def test_act_turns_the_heading_chosen_into_the_action_and_counts_the_decision():
 
 
 def test_an_escape_comes_before_every_other_behaviour():
-    agent = HippocampalAgent(obs_space(), HEADING, AgentConfig().with_values({"model.n_place": 20, "reflexes.escape_steps": 2}), seed=0)
+    agent = HippocampalAgent(obs_space(), HEADING, AgentConfig().with_values({"model.n_place": 20, "reflexes.escape_steps": 2, "map.change_evidence": None}), seed=0)
     obs = {"ranges": np.full(720, 3.0, np.float32), "heading": np.array([1.0, 0.0], np.float32), "odometry": np.zeros(2, np.float32)}
     agent.reset(obs, {})
     agent.start_trial(0)
@@ -172,11 +174,27 @@ def test_protocol_and_dry_run_in_the_real_env(paper):
 
 def test_dry_run_resets_on_truncation():
     env = make_env(seed=0, max_episode_steps=50)
-    agent = HippocampalAgent(
-        env.observation_space, env.action_space, AgentConfig(model=ModelConfig(n_place=100, dry_run_steps=180)), seed=0
-    )
+    config = AgentConfig(model=ModelConfig(n_place=100, dry_run_steps=180))
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
     agent.dry_run(env)
     assert agent.total_steps == 180
+
+
+def test_the_dry_run_cap_grows_with_the_ground_found(monkeypatch):
+    """By default (``model.dry_run_steps`` None) the cap is DRY_RUN_STEPS, or more as the map's
+    free ground grows; a number given is the cap."""
+    monkeypatch.setattr(agent_module, "DRY_RUN_STEPS", 200)  # (a small floor, for a short test)
+    env = make_env(seed=0)
+    config = AgentConfig(model=ModelConfig(n_place=100)).with_values({"exploration.dry_run_steps_per_m2": 20.0})
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    assert agent._dry_run_cap() == 200  # nothing mapped yet
+    agent.dry_run(env)
+    area = agent.map.explored_area()
+    assert area > 20.0 and agent.total_steps > 200  # went on past 200 steps as the ground grew
+    assert agent.total_steps <= int(20.0 * area) and agent._dry_run_cap() == int(20.0 * area)
+    fixed = HippocampalAgent(env.observation_space, env.action_space, config.with_values({"model.dry_run_steps": 150}), seed=0)
+    fixed.dry_run(env)
+    assert fixed.total_steps == 150 and fixed._dry_run_cap() == 150
 
 
 @pytest.mark.parametrize("action_type", ["discrete", "heading"])

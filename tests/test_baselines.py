@@ -83,7 +83,7 @@ class TestRegistry:
     def test_hippo_asks_the_runner_for_odometry_and_hippo_paper_does_not(self):
         assert agent_factory("hippo").env_kwargs == {"odometry": True}
         assert agent_factory("hippo-paper").env_kwargs == {}
-        no_odometry = {name: None for name in ("path_integration", "map", "localisation", "exploration", "homing")}
+        no_odometry = {name: None for name in ("path_integration", "map", "localisation", "exploration", "homing", "worlds")}
         assert agent_factory("hippo", **no_odometry).env_kwargs == {}
         small = agent_factory("hippo", **{"model.n_place": 200, "model.dry_run_steps": 100})
         result = run_dmtp(small, "open", trials=1, runs=1, seed=0, max_episode_steps=200, progress=False)

@@ -20,6 +20,7 @@ from hippo_agent import (
     ModelConfig,
     PathIntegrationConfig,
     ReflexConfig,
+    WorldsConfig,
 )
 from hippo_agent.config import CONFIG_VERSION
 
@@ -31,8 +32,9 @@ SECTIONS = {
     "localisation": LocalisationConfig,
     "exploration": ExplorationConfig,
     "homing": HomingConfig,
+    "worlds": WorldsConfig,
 }
-FACULTIES = ("path_integration", "map", "localisation", "exploration", "homing")
+FACULTIES = ("path_integration", "map", "localisation", "exploration", "homing", "worlds")
 
 
 def everything_off(**changes):
@@ -191,7 +193,7 @@ def test_localisation_exploration_and_homing_need_path_integration_and_the_map(f
 
 
 def test_path_integration_alone_and_the_paper_model_are_consistent():
-    alone = AgentConfig(map=None, localisation=None, exploration=None, homing=None)
+    alone = AgentConfig(map=None, localisation=None, exploration=None, homing=None, worlds=None)
     assert alone.path_integration == PathIntegrationConfig() and alone.map is None
     assert everything_off().path_integration is None
 

@@ -124,9 +124,11 @@ def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bum
     """Bumps where the map shows free ground mean a look-alike place: once the running mean of
     bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
     estimate is dropped; with ``None``, never. Bumps into a wall the map holds are explained by it
-    and do not count."""
+    and do not count. (The world taken not to change: a bump does not write a wall.)"""
     env = make_env(small_maze, seed=1)
-    config = AgentConfig().with_values({"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate})
+    config = AgentConfig().with_values(
+        {"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate, "map.change_evidence": None}
+    )
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
     agent.dry_run(env)
     agent.start_trial(0)
@@ -212,3 +214,25 @@ def test_a_malformed_localisation_state_raises_value_error(spoil):
     fresh = Localisation(agent.config.localisation, agent.map, agent.pi, agent.max_range, np.random.default_rng(0))
     with pytest.raises(ValueError):
         fresh.load_state(state, arrays)
+
+
+def test_in_a_world_that_may_change_a_bump_on_free_ground_writes_a_wall(small_maze):
+    """Well placed in a run, a bump where the map shows free ground is a new obstacle: the map
+    holds a wall there at once, later bumps there are explained, and the estimate stays anchored."""
+    env = make_env(small_maze, seed=1)
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values({"model.dry_run_steps": 1500}), seed=1)
+    agent.dry_run(env)
+    agent.start_trial(0)
+    obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
+    agent.reset(obs, info)
+    for _ in range(30):
+        action = agent.act(obs)
+        obs, _, _, _, info = env.step(action)
+        agent.observe(action, obs, 0.0, False, False, info)
+    assert agent.localisation.trusted
+    heading, distance = unpack(obs)[2], agent.config.map.bump_distance
+    assert not agent.map.wall_near(agent.pi.estimate, heading, distance)
+    still = {**obs, "odometry": np.zeros(2, dtype=np.float32)}
+    for _ in range(12):
+        agent.observe(0, still, 0.0, False, False, {"collision": True})
+    assert agent.map.wall_near(agent.pi.estimate, heading, distance) and agent.pi.anchored

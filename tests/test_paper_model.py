@@ -91,6 +91,7 @@ def test_exploration_is_a_random_walk_of_straight_segments():
         localisation=None,
         exploration=None,
         homing=None,
+        worlds=None,
     )
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
     _, positions, actions = drive_run(env, agent, options={"goal": None}, max_steps=2000)

@@ -57,9 +57,9 @@ class ExplorationConfig(Section):
     recruit_min: int = param(250, ge=1)
     """Place cells recruited at least at a time (recruitment in a few large steps)."""
     dry_run_steps_per_m2: float = param(30.0, ge=0)
-    """The dry run may go on past ``model.dry_run_steps`` up to this many steps per square metre
-    of free ground the map has found: its cap grows with the world (the sweep takes about 14
-    steps a square metre)."""
+    """With ``model.dry_run_steps`` None, the dry run's cap is 10,000 steps or this many steps per
+    square metre of free ground the map has found, whichever is more: the cap grows with the
+    world (the sweep takes about 14 steps a square metre)."""
 
 
 Stage = Literal["sweep", "transit", "done"]
