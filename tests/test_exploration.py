@@ -54,7 +54,7 @@ def coverage(spec: MazeSpec, positions: np.ndarray, radius: float = 0.75) -> flo
 def test_directed_dry_run_ends_by_itself_with_the_arena_covered():
     agent, steps, positions, spec = dry_run("open", seed=3)
     assert agent.exploration.stage == "done"
-    assert steps < agent.config.model.dry_run_steps
+    assert steps < agent._dry_run_cap()
     assert agent.exploration.sweep_steps < steps  # the sweep, then transits
     assert coverage(spec, positions) > 0.95
 
