@@ -1,59 +1,35 @@
 """A world that changes: new barriers round a known goal, walls added or removed in mazes, a
-shortcut opened, and several worlds in turn, for any agent.
+shortcut opened, and several worlds in turn, for the project's agents.
 
 ``python -m benchmarks.changing_world --agents hippo hippo-paper random --seeds 11 12 13`` runs,
-per agent and runner seed, these tasks (each a DMTP schedule, :mod:`hippo_env.schedule`; the
-agent is never told the world changed):
-
-- ``barriers``: the goal learned in the open 10 m arena (a dry run, one trial of 4 runs), then
-  four layouts of 8, 11, 14 and 18 blocks of 1 m (``hippo_env.changes``, drawn from the seed),
-  10 runs each from starts at least 3 m from the goal, cut at 300 steps (45 m of driving);
-- ``mazes``: the goal learned in a maze (maze1..maze4 and generated 10-20 m mazes), then the same
-  maze with blocks added, with a path closed (a detour) and with a door cut (a shortcut), 10 runs
-  each, cut at 300 steps per 10 m of the maze's side;
-- ``worlds``: maze1, maze3, maze2 (each with a dry run and a new goal), back to maze1 with its
-  goal kept, unannounced and with no dry run, then a new goal in maze1 (announced, no dry run).
-
-Measures (``summary`` in the JSON, per agent over seeds): success on the first run in each new
-layout and over all its runs; the median indirectness of the successes; the share of run steps
-whose position estimate is within 0.5 m of the truth (the default model's; the harness reads the
-true position, the agent never does) and of anchored steps off the ground the map knows; the
-shortcut, runs after the first in a door layout whose door shortens the way by at least 30 %:
-the share with indirectness (against the new geodesic) at most 0.5; several worlds: the median
-indirectness of run 1 back in maze1, and runs 2-4 of the new goal there against the first visit's.
-Writes ``benchmarks/results/changing_world.json``; ``benchmarks.world_figures`` draws the figures.
+per agent and runner seed, the tasks of :mod:`hippomaze.changing_world` (``barriers``: blocks
+round a known goal in the open arena; ``mazes``: blocks, a detour and a door in maze1..maze4 and
+generated 10-20 m mazes; ``worlds``: maze1, maze3, maze2 and back) and writes their measures, per
+agent over seeds, to ``benchmarks/results/changing_world.json`` with the targets they answer.
+``benchmarks.world_figures`` draws the figures.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import os
-import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
-from typing import Any
-
-import numpy as np
 
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from benchmarks.targets import target
-from hippo_env.dmtp import run_dmtp
-from hippo_env.generate import generate_maze
-from hippo_env.maze import MazeSpec
-from hippo_env.physics import ROBOT_RADIUS
-from hippo_env.schedule import resolve_maze
+from hippomaze.changing_world import MAZES, TASKS, layout_measures, run_task, summarise, worlds_measures
 from hippomaze.registry import agent_factory
-from hippomaze.stats import median_or_none
 
-TASKS = ("barriers", "mazes", "worlds")
-BLOCK_COUNTS = (8, 11, 14, 18)
-MAZES = ("maze1", "maze2", "maze3", "maze4", "gen-rooms-130-15m", "gen-perfect-131", "gen-corridors-132", "gen-arena-133-20m")
-MAZE_CHANGES = ("blocks", "barrier", "door")
-RUNS_PER_LAYOUT = 10
-POSITION_TOLERANCE = 0.5  # m
-SHORTCUT_GAIN = 0.3  # the door shortens the way by at least this share
+TARGET_NAMES = (
+    "changed_first_run_success",
+    "changed_success",
+    "changed_indirectness",
+    "changed_position",
+    "shortcut_taken",
+    "worlds_return",
+)
 
 
 @dataclasses.dataclass
@@ -70,221 +46,6 @@ class ChangingWorldArgs:
     """processes"""
     out: str = ""
     """output JSON ('' = benchmarks/results/changing_world.json)"""
-
-
-# ------------------------------------------------------------------ the schedules
-def maze_spec(name: str) -> MazeSpec:
-    """A built-in maze, or a generated one by its suite name ``gen-<kind>-<seed>[-<size>m]``."""
-    if name.startswith("gen-"):
-        parts = name.split("-")
-        size = float(parts[3][:-1]) if len(parts) > 3 else 10.0
-        return generate_maze(int(parts[2]), parts[1], size, name=name)
-    return MazeSpec.load(name)
-
-
-def barriers_schedule(seed: int) -> dict[str, Any]:
-    layouts = [
-        {
-            "name": f"{count} blocks",
-            "maze": {"base": "open", "change": "blocks", "seed": 1000 * seed + k, "count": count, "side": 1.0},
-            "runs": RUNS_PER_LAYOUT, "goal": "kept", "announce": False, "dry_run": False, "min_start_distance": 3.0, "max_steps": 300,
-        }  # fmt: skip
-        for k, count in enumerate(BLOCK_COUNTS)
-    ]
-    return {"phases": [{"name": "learn", "maze": "open", "runs": 4, "goal": "new", "dry_run": True}, *layouts]}
-
-
-def maze_schedule(name: str, seed: int) -> dict[str, Any]:
-    spec = maze_spec(name)
-    base = spec.to_dict()
-    cut = int(300 * max(1.0, spec.size / 10.0))
-    changes = [
-        {
-            "name": change,
-            "maze": {"base": base, "change": change, "seed": 1000 * seed + k, **({"count": 6} if change == "blocks" else {})},
-            "runs": RUNS_PER_LAYOUT, "goal": "kept", "announce": False, "dry_run": False, "min_start_distance": 3.0, "max_steps": cut,
-        }  # fmt: skip
-        for k, change in enumerate(MAZE_CHANGES)
-    ]
-    return {"phases": [{"name": "learn", "maze": base, "runs": 4, "goal": "new", "dry_run": True}, *changes]}
-
-
-WORLDS_SCHEDULE: dict[str, Any] = {
-    "phases": [
-        {"name": "maze1", "maze": "maze1", "runs": 4, "goal": "new", "dry_run": True},
-        {"name": "maze3", "maze": "maze3", "runs": 4, "goal": "new", "dry_run": True},
-        {"name": "maze2", "maze": "maze2", "runs": 4, "goal": "new", "dry_run": True},
-        {"name": "maze1 again", "maze": "maze1", "runs": 4, "goal": {"phase": 0}, "announce": False, "dry_run": False},
-        {"name": "maze1 new goal", "runs": 4, "goal": "new", "announce": True, "dry_run": False},
-    ]
-}
-
-
-# ------------------------------------------------------------------ watching the estimate
-class _FirstReset:
-    """Passes an env through, telling ``on_reset`` the info of every reset."""
-
-    def __init__(self, env: Any, on_reset: Any) -> None:
-        self.env, self.on_reset = env, on_reset
-
-    def reset(self, **kwargs: Any) -> Any:
-        obs, info = self.env.reset(**kwargs)
-        self.on_reset(info)
-        return obs, info
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.env, name)
-
-
-class Watched:
-    """An agent passed through, with each run step's position error (PRIVILEGED, read from the
-    env's ``info["position"]``; the frame's origin is where the agent's first dry run began)."""
-
-    def __init__(self, agent: Any) -> None:
-        self.agent = agent
-        self.origin: np.ndarray | None = None
-        self.runs: list[dict[str, int]] = []  # per run: steps, steps within tolerance, anchored steps off the map
-
-    def dry_run(self, env: Any) -> None:
-        def first(info: dict[str, Any]) -> None:
-            if self.origin is None:
-                self.origin = np.asarray(info["position"], dtype=np.float64)
-
-        self.agent.dry_run(_FirstReset(env, first))
-
-    def start_trial(self, trial: int) -> None:
-        self.agent.start_trial(trial)
-
-    def reset(self, observation: Any, info: dict[str, Any]) -> None:
-        self.runs.append({"steps": 0, "placed": 0, "off_map": 0})
-        self.agent.reset(observation, info)
-
-    def act(self, observation: Any) -> Any:
-        return self.agent.act(observation)
-
-    def observe(self, action: Any, observation: Any, reward: float, terminated: bool, truncated: bool, info: dict[str, Any]) -> None:
-        self.agent.observe(action, observation, reward, terminated, truncated, info)
-        pi, run = getattr(self.agent, "pi", None), self.runs[-1]
-        run["steps"] += 1
-        if pi is None or self.origin is None or not pi.anchored:
-            return
-        truth = np.asarray(info["position"], dtype=np.float64) - self.origin
-        run["placed"] += int(math.dist(pi.estimate, truth) <= POSITION_TOLERANCE)
-        run["off_map"] += int(not self.agent.map.known_ground(pi.estimate))
-
-
-# ------------------------------------------------------------------ one job
-def one(agent: str, seed: int, task: str, maze: str = "") -> dict[str, Any]:
-    """One schedule run for one agent and seed: its run records and the position figures."""
-    began = time.process_time()
-    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}
-    factory = agent_factory(agent)
-    watchers: list[Watched] = []
-
-    def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
-        watchers.append(Watched(factory(observation_space, action_space, seed=seed)))
-        return watchers[-1]
-
-    result = run_dmtp(make, schedule=schedule[task](), seed=seed, agent_name=agent, progress=False)
-    runs = [dataclasses.asdict(r) for r in result.run_records]
-    watched = watchers[0].runs if watchers else []
-    for record, counts in zip(runs, watched):
-        record.update(counts)
-    if task == "mazes":
-        add_old_geodesic(runs, result)
-    names = [p["name"] for p in result.schedule["phases"]]
-    return {"agent": agent, "seed": seed, "task": task, "maze": maze, "phases": names, "runs": runs, "cpu_seconds": time.process_time() - began}
-
-
-def add_old_geodesic(runs: list[dict[str, Any]], result: Any) -> None:
-    """Each run's shortest way in the maze before its change (the learn phase's maze): a door
-    layout's run took a shortcut only if the door shortened the way."""
-    before = resolve_maze(result.schedule["phases"][0]["maze"])
-    for r in runs:
-        r["shortest_before_change"] = float(before.geodesic(np.asarray(r["start"]), np.asarray(r["goal"]), ROBOT_RADIUS))
-
-
-# ------------------------------------------------------------------ the measures
-def changed_runs(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The runs of every phase after the first (the layouts the goal was kept through)."""
-    return [r for row in rows for r in row["runs"] if r["phase"] > 0]
-
-
-def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Success on the first run in each new layout and on all its runs, the successes' median
-    indirectness, and the position figures, over ``rows``' changed layouts."""
-    runs = changed_runs(rows)
-    firsts = [r for r in runs if r["run"] == 0]
-    steps = sum(r.get("steps", 0) for r in runs)
-    placed = sum(r.get("placed", 0) for r in runs)
-    return {
-        "layouts": len(firsts),
-        "runs": len(runs),
-        "first_run_success": _share([r["success"] for r in firsts]),
-        "success": _share([r["success"] for r in runs]),
-        "median_indirectness_of_successes": median_or_none(r["indirectness"] for r in runs if r["success"]),
-        "position_within_0_5m": placed / steps if steps else None,
-        "anchored_off_map_steps": sum(r.get("off_map", 0) for r in runs),
-    }
-
-
-def shortcut_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Door layouts: of the runs after the first whose door shortened the way by at least 30 %,
-    the share at most 0.5 indirect against the new geodesic (a failed run counts as not taken)."""
-    taken = []
-    for row in rows:
-        door = row["phases"].index("door") if "door" in row["phases"] else -1
-        for r in row["runs"]:
-            if r["phase"] == door and r["run"] > 0 and r["shortest_path_length"] <= (1 - SHORTCUT_GAIN) * r["shortest_before_change"]:
-                taken.append(bool(r["success"]) and r["indirectness"] <= 0.5)
-    return {"runs": len(taken), "taken": _share(taken)}
-
-
-def worlds_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Run 1 back in the first world (median indirectness, a failed run counted as infinite), and a
-    new goal there: runs 2-4's median against the first visit's."""
-
-    def indirectness(r: dict[str, Any]) -> float:
-        return r["indirectness"] if r["success"] else math.inf
-
-    def runs_of(phase: int, later: bool) -> list[float]:
-        return [indirectness(r) for row in rows for r in row["runs"] if r["phase"] == phase and (r["run"] > 0) == later]
-
-    back = runs_of(3, later=False)
-    return {
-        "returns": len(back),
-        "run1_back_median": _median(back),
-        "first_visit_runs_2_4_median": _median(runs_of(0, later=True)),
-        "new_goal_back_runs_2_4_median": _median(runs_of(4, later=True)),
-    }
-
-
-def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Per agent: the measures of each task, over its seeds."""
-    out: dict[str, Any] = {}
-    for agent in dict.fromkeys(r["agent"] for r in rows):
-        mine = [r for r in rows if r["agent"] == agent]
-        entry: dict[str, Any] = {}
-        barriers = [r for r in mine if r["task"] == "barriers"]
-        mazes = [r for r in mine if r["task"] == "mazes"]
-        worlds = [r for r in mine if r["task"] == "worlds"]
-        if barriers:
-            entry["barriers"] = layout_measures(barriers)
-        if mazes:
-            entry["mazes"] = {"all": layout_measures(mazes), **{m: layout_measures([r for r in mazes if r["maze"] == m]) for m in dict.fromkeys(r["maze"] for r in mazes)}}
-            entry["shortcut"] = shortcut_measures(mazes)
-        if worlds:
-            entry["worlds"] = worlds_measures(worlds)
-        out[agent] = entry
-    return out
-
-
-def _share(values: list[bool]) -> float | None:
-    return float(np.mean(values)) if values else None
-
-
-def _median(values: list[float]) -> float | None:
-    return float(np.median(values)) if values else None
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -304,7 +65,7 @@ def main(argv: list[str] | None = None) -> None:
     load_start = load_average()
     rows = []
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
-        for row in pool.map(one, *zip(*jobs)):
+        for row in pool.map(run_task, *zip(*jobs)):
             rows.append(row)
             summary = layout_measures([row]) if row["task"] != "worlds" else worlds_measures([row])
             print(f"{row['agent']:>12} seed {row['seed']} {row['task']} {row['maze']}: {json.dumps(summary)}", flush=True)
@@ -326,8 +87,6 @@ def main(argv: list[str] | None = None) -> None:
     tmp.replace(out)
     print(f"wrote {out}")
 
-
-TARGET_NAMES = ("changed_first_run_success", "changed_success", "changed_indirectness", "changed_position", "shortcut_taken", "worlds_return")
 
 if __name__ == "__main__":
     main()

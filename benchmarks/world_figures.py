@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.changing_world import WORLDS_SCHEDULE, Watched, barriers_schedule, maze_schedule
 from benchmarks.common import REPO, parse_dataclass_args
 from hippo_agent import HippocampalAgent
 from hippo_env.dmtp import run_dmtp
+from hippomaze.changing_world import WORLDS_SCHEDULE, Watched, barriers_schedule, maze_schedule
 from hippomaze.report import plot_phase_paths
 
 
@@ -55,7 +55,7 @@ def run_with_maps(schedule: dict[str, Any], seed: int) -> tuple[Any, list[tuple[
             m = agent.agent.map
             maps.append(((m.hits > 0) & (m.hits >= m.free), (m.free > 0) & (m.hits < m.free)))
 
-    result = run_dmtp(make, schedule=schedule, seed=seed, progress=False, on_run_end=on_run_end)
+    result = run_dmtp(make, schedule=schedule, seed=seed, progress=False, on_run_end=on_run_end, env_kwargs={"odometry": True})
     return result, maps, watched[0]
 
 

@@ -363,7 +363,7 @@ class HippocampalAgent:
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
-            if s.bumped and (dry or self.map.config.change_evidence is not None):
+            if s.bumped and (dry or self.map.config.new_wall_evidence is not None):
                 self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)

@@ -517,6 +517,10 @@ class DMTPFailed(Exception):
         self.result = result
         self.doing = doing
 
+    def __reduce__(self) -> tuple[Any, tuple[str]]:
+        """Pickled (out of a worker process) as a RuntimeError with the same message: the result stays behind."""
+        return RuntimeError, (str(self),)
+
 
 def agent_config(agent: Any) -> Any:
     """The agent's configuration as JSON, for the record: its ``config`` attribute (a dataclass,

@@ -135,7 +135,12 @@ def test_act_turns_the_heading_chosen_into_the_action_and_counts_the_decision():
 
 
 def test_an_escape_comes_before_every_other_behaviour():
-    agent = HippocampalAgent(obs_space(), HEADING, AgentConfig().with_values({"model.n_place": 20, "reflexes.escape_steps": 2, "map.change_evidence": None}), seed=0)
+    agent = HippocampalAgent(
+        obs_space(),
+        HEADING,
+        AgentConfig().with_values({"model.n_place": 20, "reflexes.escape_steps": 2, "map.new_wall_evidence": None}),
+        seed=0,
+    )
     obs = {"ranges": np.full(720, 3.0, np.float32), "heading": np.array([1.0, 0.0], np.float32), "odometry": np.zeros(2, np.float32)}
     agent.reset(obs, {})
     agent.start_trial(0)

@@ -17,7 +17,9 @@ from hippo_env.dmtp import _CountingEnv
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
 
-RANDOM_WALK = AgentConfig(map=None, localisation=None, exploration=None, homing=None, worlds=None, reflexes=ReflexConfig(escape_after="exploiting"))
+RANDOM_WALK = AgentConfig(
+    map=None, localisation=None, exploration=None, homing=None, worlds=None, reflexes=ReflexConfig(escape_after="exploiting")
+)
 """The default model before directed exploration: path integration, no map, the paper's random walk."""
 
 

@@ -127,7 +127,7 @@ def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bum
     and do not count. (The world taken not to change: a bump does not write a wall.)"""
     env = make_env(small_maze, seed=1)
     config = AgentConfig().with_values(
-        {"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate, "map.change_evidence": None}
+        {"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate, "map.new_wall_evidence": None}
     )
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
     agent.dry_run(env)

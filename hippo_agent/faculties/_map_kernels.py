@@ -127,14 +127,16 @@ def scan_agreement(
 
 @njit(cache=True)
 def revise_scan(
-    free, hits, change, stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, evidence
+    free, hits, change, stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range,
+    new_evidence, gone_evidence,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
     through its middle (two samples in the cell, the ray ending at least a cell beyond) and a
     boundary where the map knows free ground with no wall beside it each add one to the cell's
-    ``change`` count, at most once per scan (``stamp``); at ``evidence`` the cell is rewritten (the
-    wall cleared, the boundary made a wall). A reading that agrees with a cell resets its count.
+    ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is cleared, at
+    ``new_evidence`` the boundary is made a wall (0: never). A reading that agrees with a cell
+    resets its count.
     Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
@@ -161,10 +163,10 @@ def revise_scan(
                     change[i, j] = 0  # free, as the map holds
             inside += 1
             wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
-            if wall and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
+            if wall and gone_evidence > 0 and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
                 stamp[i, j] = scan_id
                 change[i, j] += 1
-                if change[i, j] >= evidence:  # the wall is gone
+                if change[i, j] >= gone_evidence:  # the wall is gone
                     hits[i, j] = 0
                     free[i, j] = max(free[i, j], 1)
                     change[i, j] = 0
@@ -188,10 +190,10 @@ def revise_scan(
         if near_wall:
             if stamp[i, j] != scan_id:
                 change[i, j] = 0  # a boundary where the map holds one
-        elif stamp[i, j] != scan_id:
+        elif new_evidence > 0 and stamp[i, j] != scan_id:
             stamp[i, j] = scan_id
             change[i, j] += 1
-            if change[i, j] >= evidence:  # a new wall
+            if change[i, j] >= new_evidence:  # a new wall
                 hits[i, j] = min(int(free[i, j]) + 1, 65535)
                 change[i, j] = 0
                 changed += 1

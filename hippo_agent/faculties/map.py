@@ -90,10 +90,14 @@ class MapConfig(Section):
     run_every: int = param(2, ge=1)
     """In runs, a scan enters the map every this many steps (the dry run maps every scan): at
     0.15 m a step, every second scan lands within a cell of the last."""
-    change_evidence: int | None = param(5, ge=1)
-    """In runs, while the robot is well localised, a cell the map holds is rewritten once this many
-    scans in a row disagree with it (a wall crossed by rays: gone; a boundary on free ground: a new
-    wall); ``None``: runs enter only cells the map knows nothing of, the world taken not to change."""
+    new_wall_evidence: int | None = param(5, ge=1)
+    """In runs, while the robot is well placed, a boundary seen on ground the map holds free, with
+    no wall beside it, in this many scans in a row becomes a wall; a bump on such ground makes it
+    one at once (``None``: runs enter only cells the map knows nothing of)."""
+    gone_wall_evidence: int | None = param(15, ge=1)
+    """In runs, while the robot is well placed, a wall the map holds that rays cross in this many
+    scans in a row is cleared (``None``: never). More than for a new wall: a ray grazing a wall's
+    cell at a small error in the estimate crosses it too, and a wall wrongly cleared costs a bump."""
 
 
 class ExplorationMap:
@@ -176,13 +180,16 @@ class ExplorationMap:
         radius = self.search_radius if search_radius is None else float(search_radius)
         mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
 
-    def revise(self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, search_radius: float | None = None) -> None:
+    def revise(
+        self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, search_radius: float | None = None
+    ) -> None:
         """Enter a run's scan seen from ``position`` as :meth:`observe` does with ``unknown_only``,
-        and revise what the map holds where the scan keeps disagreeing with it: a wall that rays
-        cross is cleared, a boundary on free ground becomes a wall, once ``change_evidence`` scans in a
-        row say so (call only while the position is trusted: a misplaced scan disagrees everywhere)."""
-        evidence = self.config.change_evidence
-        if evidence is None:
+        and revise what the map holds where the scan keeps disagreeing with it: a boundary on free
+        ground becomes a wall after ``new_wall_evidence`` scans in a row, a wall that rays cross is
+        cleared after ``gone_wall_evidence`` (call only while the position is trusted: a misplaced
+        scan disagrees everywhere)."""
+        new, gone = self.config.new_wall_evidence, self.config.gone_wall_evidence
+        if new is None and gone is None:
             self.observe(position, heading, ranges, max_range, unknown_only=True, search_radius=search_radius)
             return
         stride = max(1, round(ranges.size * self.ray_stride_deg / 360.0))
@@ -190,7 +197,7 @@ class ExplorationMap:
         if revise_scan(
             self.free, self.hits, self.change, self._scan_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
-            self.hit_range, int(evidence),
+            self.hit_range, new or 0, gone or 0,
         ):  # fmt: skip
             self.revision += 1
         self._mark(position, search_radius)

@@ -214,7 +214,9 @@ class Worlds:
         glimpse = {k: arrays.pop(k) for k in ("glimpse.ranges", "glimpse.headings", "glimpse.offsets") if k in arrays}
         self.glimpse = []
         if len(glimpse) == 3:
-            self.glimpse = [(r, float(h), o) for r, h, o in zip(glimpse["glimpse.ranges"], glimpse["glimpse.headings"], glimpse["glimpse.offsets"])]
+            self.glimpse = [
+                (r, float(h), o) for r, h, o in zip(glimpse["glimpse.ranges"], glimpse["glimpse.headings"], glimpse["glimpse.offsets"])
+            ]
         for key, value in arrays.items():
             index, _, name = key.partition(".")
             if not index.isdigit() or int(index) >= len(kept):
