@@ -42,6 +42,8 @@ class ChangingWorldArgs:
     """tasks to run: barriers, mazes, worlds"""
     mazes: tuple[str, ...] = MAZES
     """mazes of the 'mazes' task: built-in names or gen-<kind>-<seed>[-<size>m]"""
+    config: str = ""
+    """AgentConfig fields by dotted name as JSON, for every agent that takes them, e.g. '{"map.new_wall_evidence": 3}'"""
     workers: int = 2
     """processes"""
     out: str = ""
@@ -54,9 +56,10 @@ def main(argv: list[str] | None = None) -> None:
     if unknown:
         raise SystemExit(f"--tasks {unknown} unknown; allowed: {', '.join(TASKS)}")
     for agent in args.agents:
-        agent_factory(agent)  # an unknown agent fails now, not in a worker
+        agent_factory(agent, **(json.loads(args.config) if args.config else {}))  # an unknown agent or field fails now, not in a worker
+    overrides = json.loads(args.config) if args.config else {}
     jobs = [
-        (agent, seed, task, maze)
+        (agent, seed, task, maze, overrides)
         for agent in args.agents
         for seed in args.seeds
         for task in args.tasks

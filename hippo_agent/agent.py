@@ -351,7 +351,8 @@ class HippocampalAgent:
         )
         # in runs the map is written only where the robot is well placed: a misplaced scan would
         # write walls where there are none
-        placed = pi is not None and (pi.anchored if dry or self.localisation is None else self.localisation.trusted)
+        mapping = self.map is not None and (dry or s.bumped or self.total_steps % self.map.config.run_every == 0)
+        placed = pi is not None and mapping and (pi.anchored if dry or self.localisation is None else self.localisation.well_placed(s.ranges, s.heading))
         if self.map is not None and pi is not None and placed:
             if dry:
                 self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)
@@ -364,7 +365,7 @@ class HippocampalAgent:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
             if s.bumped and (dry or self.map.config.new_wall_evidence is not None):
-                self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance)
+                self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance, new=not dry)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)
         if s.bumped:

@@ -124,7 +124,7 @@ class Watched:
     def __init__(self, agent: Any) -> None:
         self.agent = agent
         self.origin: np.ndarray | None = None
-        self.runs: list[dict[str, int]] = []  # per run: steps, steps within tolerance, anchored steps off the map
+        self.runs: list[dict[str, int]] = []  # per run: steps, anchored steps, those within tolerance, those off the map
 
     def dry_run(self, env: Any) -> None:
         def first(info: dict[str, Any]) -> None:
@@ -137,7 +137,7 @@ class Watched:
         self.agent.start_trial(trial)
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
-        self.runs.append({"steps": 0, "placed": 0, "off_map": 0})
+        self.runs.append({"steps": 0, "anchored": 0, "placed": 0, "off_map": 0})
         self.agent.reset(observation, info)
 
     def act(self, observation: Any) -> Any:
@@ -150,16 +150,17 @@ class Watched:
         if pi is None or self.origin is None or not pi.anchored:
             return
         truth = np.asarray(info["position"], dtype=np.float64) - self.origin
+        run["anchored"] += 1
         run["placed"] += int(math.dist(pi.estimate, truth) <= POSITION_TOLERANCE)
         run["off_map"] += int(not self.agent.map.known_ground(pi.estimate))
 
 
 # ------------------------------------------------------------------ one job
-def run_task(agent: str, seed: int, task: str, maze: str = "") -> dict[str, Any]:
+def run_task(agent: str, seed: int, task: str, maze: str = "", overrides: dict[str, Any] | None = None) -> dict[str, Any]:
     """One schedule run for one agent and seed: its run records and the position figures."""
     began = time.process_time()
     schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}
-    factory = agent_factory(agent)
+    factory = agent_factory(agent, **(overrides or {}))
     watchers: list[Watched] = []
 
     def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
@@ -211,6 +212,7 @@ def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     runs = changed_runs(rows)
     firsts = [r for r in runs if r["run"] == 0]
     steps = sum(r.get("steps", 0) for r in runs)
+    anchored = sum(r.get("anchored", 0) for r in runs)
     placed = sum(r.get("placed", 0) for r in runs)
     return {
         "layouts": len(firsts),
@@ -218,7 +220,8 @@ def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "first_run_success": _share([r["success"] for r in firsts]),
         "success": _share([r["success"] for r in runs]),
         "median_indirectness_of_successes": median_or_none(r["indirectness"] for r in runs if r["success"]),
-        "position_within_0_5m": placed / steps if steps else None,
+        "anchored_share": anchored / steps if steps else None,
+        "position_within_0_5m": placed / anchored if anchored else None,
         "anchored_off_map_steps": sum(r.get("off_map", 0) for r in runs),
     }
 

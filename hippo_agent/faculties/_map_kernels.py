@@ -68,10 +68,12 @@ def enter_scan(
 
 @njit(cache=True)
 def scan_agreement(
-    free, hits, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range, short_weight, out
+    free, hits, new_walls, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range,
+    short_weight, out,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
-    ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``."""
+    ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
+    wall written in a run (``new_walls``)."""
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -94,7 +96,7 @@ def scan_agreement(
             while t < d - 0.5:
                 a = _grid_index(x + t * c, cell, inv_cell)
                 b = _grid_index(y + t * s, cell, inv_cell)
-                if 0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b]:  # (a wall, written out: faster)
+                if 0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b] and not new_walls[a, b]:  # (a wall, written out: faster)
                     through = True
                     break
                 t += 0.5
@@ -127,21 +129,30 @@ def scan_agreement(
 
 @njit(cache=True)
 def revise_scan(
-    free, hits, change, stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range,
-    new_evidence, gone_evidence,
+    free, hits, new_walls, change, stamp, hit_stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range,
+    hit_range, new_evidence, gone_evidence,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
-    through its middle (two samples in the cell, the ray ending at least a cell beyond) and a
-    boundary where the map knows free ground with no wall beside it each add one to the cell's
-    ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is cleared, at
-    ``new_evidence`` the boundary is made a wall (0: never). A reading that agrees with a cell
-    resets its count.
-    Returns how many cells changed."""
+    through its middle (two samples in the cell, the ray ending at least a cell beyond, and no ray
+    of the scan ending within a cell of it: a thin wall's cell is partly free, and rays graze it)
+    and a boundary where the map knows free ground with no wall beside it each add one to the
+    cell's ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is
+    cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
+    boundary is made a wall, marked in ``new_walls`` (0: never). A reading that agrees with
+    a cell resets its count. Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
     n_rays = ranges.size
     step = cell * 0.5
+    for r in range(0, n_rays, stride):  # where this scan's rays end
+        d = float(ranges[r])
+        if d < hit_range and d < max_range * 0.999:
+            angle = heading + 2.0 * math.pi * r / n_rays
+            i = _grid_index(x + d * math.cos(angle) + extent, cell, inv_cell)
+            j = _grid_index(y + d * math.sin(angle) + extent, cell, inv_cell)
+            if 0 <= i < n and 0 <= j < n:
+                hit_stamp[i, j] = scan_id
     for r in range(0, n_rays, stride):
         angle = heading + 2.0 * math.pi * r / n_rays
         c, s = math.cos(angle), math.sin(angle)
@@ -163,11 +174,17 @@ def revise_scan(
                     change[i, j] = 0  # free, as the map holds
             inside += 1
             wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
-            if wall and gone_evidence > 0 and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
+            gone = new_evidence if new_walls[i, j] else gone_evidence
+            if wall and gone > 0 and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
                 stamp[i, j] = scan_id
+                if _hit_near(hit_stamp, i, j, scan_id):
+                    change[i, j] = 0  # a ray ended by it: the wall is there
+                    t += step
+                    continue
                 change[i, j] += 1
-                if change[i, j] >= gone_evidence:  # the wall is gone
+                if change[i, j] >= gone:  # the wall is gone
                     hits[i, j] = 0
+                    new_walls[i, j] = False
                     free[i, j] = max(free[i, j], 1)
                     change[i, j] = 0
                     changed += 1
@@ -195,9 +212,21 @@ def revise_scan(
             change[i, j] += 1
             if change[i, j] >= new_evidence:  # a new wall
                 hits[i, j] = min(int(free[i, j]) + 1, 65535)
+                new_walls[i, j] = True
                 change[i, j] = 0
                 changed += 1
     return changed
+
+
+@njit(cache=True, inline="always")
+def _hit_near(hit_stamp, i, j, scan_id):  # pragma: no cover - compiled
+    """Whether a ray of scan ``scan_id`` ended within one cell of ``(i, j)``."""
+    n = hit_stamp.shape[0]
+    for a in range(max(i - 1, 0), min(i + 2, n)):
+        for b in range(max(j - 1, 0), min(j + 2, n)):
+            if hit_stamp[a, b] == scan_id:
+                return True
+    return False
 
 
 @njit(cache=True)

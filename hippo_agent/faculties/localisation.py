@@ -48,7 +48,7 @@ class LocalisationConfig(Section):
 
     name: ClassVar[str] = "localisation"
 
-    beta: float = param(10.0, ge=0)
+    beta: float = param(30.0, ge=0)
     """While a run's estimate is lost, each sample is weighed by ``exp(beta * agreement)``, the
     agreement (in [-1, 1]) of the scan with the map seen from there."""
     proposals: int = param(16, ge=0)
@@ -74,6 +74,11 @@ class LocalisationConfig(Section):
     following its map in the wrong room, often."""
     bump_rate_steps: int = param(50, ge=1)
     """The window (steps) of that running rate."""
+    revise_agreement: float = param(0.8, ge=-1, le=1)
+    """In runs, the map is revised from the scan (:meth:`ExplorationMap.revise`) only while the fit at
+    the estimate, short readings left out, is at least this: rays through the walls it holds, which
+    only a wrong place (or a removed wall) explains, are rare. A map revised from a wrong place
+    would drift with the estimate."""
     short_weight: float = param(0.25, ge=0, le=1)
     """In runs, how much a reading shorter than the map predicts (a boundary on ground the map
     knows free) counts in the scan's fit, against 1 for a ray through a wall: the beam model's
@@ -111,6 +116,14 @@ class Localisation:
     def trusted(self) -> bool:
         """Anchored, and the scan fits the map well enough for the cells to learn."""
         return self.pi.anchored and self.fit >= self.config.learn_agreement
+
+    def well_placed(self, ranges: np.ndarray, heading: float) -> bool:
+        """Trusted, and the scan at the estimate crosses few walls of the map (``revise_agreement``):
+        the map may be revised from this scan."""
+        if not self.trusted:
+            return False
+        fit = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0)
+        return bool(fit[0] >= self.config.revise_agreement)
 
     def reset(self) -> None:
         """A run begins: no doubt yet."""

@@ -125,9 +125,12 @@ class ExplorationMap:
         self.hits = np.zeros((n, n), dtype=np.uint16)
         self.visited = np.zeros((n, n), dtype=np.bool_)
         self.searched = np.zeros((n, n), dtype=np.bool_)
+        # walls written in runs (revise, bumps): the world changed there, and may change back
+        self.new_walls = np.zeros((n, n), dtype=np.bool_)
         # scans in a row that disagreed with a cell (revise), and the last scan that counted there
         self.change = np.zeros((n, n), dtype=np.uint16)
         self._scan_stamp = np.zeros((n, n), dtype=np.int32)
+        self._hit_stamp = np.zeros((n, n), dtype=np.int32)  # the last scan with a ray ending in the cell
         self._scan_id = 0
         # scratch for the search: a stamp per cell (which search reached it), its parent, a queue
         self._stamp = np.zeros(n * n, dtype=np.int32)
@@ -195,7 +198,7 @@ class ExplorationMap:
         stride = max(1, round(ranges.size * self.ray_stride_deg / 360.0))
         self._scan_id += 1
         if revise_scan(
-            self.free, self.hits, self.change, self._scan_stamp, self._scan_id, float(position[0]), float(position[1]),
+            self.free, self.hits, self.new_walls, self.change, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
             self.hit_range, new or 0, gone or 0,
         ):  # fmt: skip
@@ -208,11 +211,14 @@ class ExplorationMap:
         mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
         self.searched[inside] = False
 
-    def mark_bump(self, position: np.ndarray, heading: float, distance: float) -> None:
-        """A bump: the cell ``distance`` ahead is a wall, whatever the rays said."""
+    def mark_bump(self, position: np.ndarray, heading: float, distance: float, new: bool = False) -> None:
+        """A bump: the cell ``distance`` ahead is a wall, whatever the rays said (``new``: a wall
+        written in a run, which the world may take away again)."""
         i, j = self.index(position[0] + distance * math.cos(heading), position[1] + distance * math.sin(heading))
         if 0 <= i < self.n and 0 <= j < self.n:
+            wall = self.hits[i, j] > 0 and self.hits[i, j] >= self.free[i, j]
             self.hits[i, j] = min(int(self.hits[i, j]) + int(self.free[i, j]) + 1, 65535)
+            self.new_walls[i, j] |= new and not wall
             self.revision += 1
 
     def wall_near(self, position: np.ndarray, heading: float, distance: float) -> bool:
@@ -256,12 +262,14 @@ class ExplorationMap:
         Burgard and Fox, *Probabilistic Robotics*, ch. 6) a reading shorter than the map predicts
         is also explained by an object the map does not hold (its "short" component): with
         ``short_weight`` below 1, a new obstacle costs a place less of its fit than a ray through a
-        wall, which nothing but a wrong place (or a wall since removed) explains."""
+        wall, which nothing but a wrong place (or a wall since removed) explains. A ray through a
+        wall written in a run (:attr:`new_walls`: a new obstacle, seen or bumped into) does not
+        count against a place: such walls come and go (the blocks of one layout gone in the next)."""
         x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         scan_agreement(
-            self.free, self.hits, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
+            self.free, self.hits, self.new_walls, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
             self.cell, self._inv_cell, self.hit_range, float(short_weight), out,
         )  # fmt: skip
         return out
@@ -444,8 +452,9 @@ class ExplorationMap:
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
-        if "change" not in arrays:  # (a save from before the map revised itself)
-            arrays = {**arrays, "change": np.zeros_like(self.change)}
+        for name in ("change", "new_walls"):  # (a save from before the map revised itself)
+            if name not in arrays:
+                arrays = {**arrays, name: np.zeros_like(getattr(self, name))}
         for name in _GRIDS:
             ref, arr = getattr(self, name), arrays.get(name)
             if arr is None or arr.shape != ref.shape:
@@ -454,4 +463,4 @@ class ExplorationMap:
         self.grids_replaced()
 
 
-_GRIDS = ("free", "hits", "visited", "searched", "change")
+_GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls")

@@ -92,7 +92,7 @@ class PathIntegrationConfig(Section):
     vote_floor: float = param(1e-3, gt=0, le=1)
     """Likelihood of a sample far from every voted centre, so that no weight becomes 0 and the
     belief can recover from a wrong vote."""
-    lost_vote_floor: float = param(0.1, ge=0, le=1)
+    lost_vote_floor: float = param(0.5, ge=0, le=1)
     """The same while not anchored: a higher floor makes the vote weaker evidence against places it
     does not propose (in look-alike rooms often where the robot is)."""
     min_mapped: float = param(0.8, ge=0, le=1)
