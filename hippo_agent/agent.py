@@ -352,7 +352,11 @@ class HippocampalAgent:
         # in runs the map is written only where the robot is well placed: a misplaced scan would
         # write walls where there are none
         mapping = self.map is not None and (dry or s.bumped or self.total_steps % self.map.config.run_every == 0)
-        placed = pi is not None and mapping and (pi.anchored if dry or self.localisation is None else self.localisation.well_placed(s.ranges, s.heading))
+        placed = (
+            pi is not None
+            and mapping
+            and (pi.anchored if dry or self.localisation is None else self.localisation.well_placed(s.ranges, s.heading))
+        )
         if self.map is not None and pi is not None and placed:
             if dry:
                 self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)

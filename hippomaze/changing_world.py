@@ -45,6 +45,7 @@ MAZE_CHANGES = ("blocks", "barrier", "door")
 RUNS_PER_LAYOUT = 10
 POSITION_TOLERANCE = 0.5  # m
 SHORTCUT_GAIN = 0.3  # the door shortens the way by at least this share
+GOAL_RADIUS = 0.3  # m: HippoMaze-v0's default goal_radius
 
 
 # ------------------------------------------------------------------ the schedules
@@ -131,10 +132,14 @@ class Watched:
             if self.origin is None:
                 self.origin = np.asarray(info["position"], dtype=np.float64)
 
-        self.agent.dry_run(_FirstReset(env, first))
+        dry_run = getattr(self.agent, "dry_run", None)
+        if callable(dry_run):  # (an agent without a dry run is offered none)
+            dry_run(_FirstReset(env, first))
 
     def start_trial(self, trial: int) -> None:
-        self.agent.start_trial(trial)
+        start_trial = getattr(self.agent, "start_trial", None)
+        if callable(start_trial):
+            start_trial(trial)
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
         self.runs.append({"steps": 0, "anchored": 0, "placed": 0, "off_map": 0})
@@ -152,7 +157,8 @@ class Watched:
         truth = np.asarray(info["position"], dtype=np.float64) - self.origin
         run["anchored"] += 1
         run["placed"] += int(math.dist(pi.estimate, truth) <= POSITION_TOLERANCE)
-        run["off_map"] += int(not self.agent.map.known_ground(pi.estimate))
+        map_ = getattr(self.agent, "map", None)
+        run["off_map"] += int(map_ is not None and not map_.known_ground(pi.estimate))
 
 
 # ------------------------------------------------------------------ one job
@@ -196,8 +202,10 @@ def add_old_geodesic(runs: list[dict[str, Any]], result: Any) -> None:
     """Each run's shortest way in the maze before its change (the learn phase's maze): a door
     layout's run took a shortcut only if the door shortened the way."""
     before = result.phase_mazes[0]
-    for r in runs:
-        r["shortest_before_change"] = float(before.geodesic(np.asarray(r["start"]), np.asarray(r["goal"]), ROBOT_RADIUS))
+    goal_radius = float(result.env_kwargs.get("goal_radius", GOAL_RADIUS))
+    for r in runs:  # (as the environment measures the shortest way: to the goal disk's edge)
+        length = before.geodesic(np.asarray(r["start"]), np.asarray(r["goal"]), ROBOT_RADIUS)
+        r["shortest_before_change"] = max(float(length) - goal_radius, 0.0)
 
 
 # ------------------------------------------------------------------ the measures
@@ -285,4 +293,8 @@ def _share(values: list[bool]) -> float | None:
 
 
 def _median(values: list[float]) -> float | None:
-    return float(np.median(values)) if values else None
+    """The median (a miss counted as infinite); None if there are none or more than half missed (JSON has no infinity)."""
+    if not values:
+        return None
+    median = float(np.median(values))
+    return median if math.isfinite(median) else None

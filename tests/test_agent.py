@@ -10,11 +10,10 @@ import math
 
 import gymnasium as gym
 import numpy as np
-
-import hippo_agent.agent as agent_module
 import pytest
 from agent_helpers import DISCRETE, HEADING, SMALL, drive_run, make_env, obs_space
 
+import hippo_agent.agent as agent_module
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from hippo_agent import AgentConfig, HippocampalAgent, ModelConfig, PaperModel, plots, spaces
 from hippo_agent.faculties.exploration import Exploration

@@ -68,8 +68,23 @@ def enter_scan(
 
 @njit(cache=True)
 def scan_agreement(
-    free, hits, new_walls, ox, oy, with_origin, points, heading, ranges, stride, max_range, extent, cell, inv_cell, hit_range,
-    short_weight, out,
+    free,
+    hits,
+    new_walls,
+    ox,
+    oy,
+    with_origin,
+    points,
+    heading,
+    ranges,
+    stride,
+    max_range,
+    extent,
+    cell,
+    inv_cell,
+    hit_range,
+    short_weight,
+    out,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
     ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
@@ -96,7 +111,9 @@ def scan_agreement(
             while t < d - 0.5:
                 a = _grid_index(x + t * c, cell, inv_cell)
                 b = _grid_index(y + t * s, cell, inv_cell)
-                if 0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b] and not new_walls[a, b]:  # (a wall, written out: faster)
+                if (
+                    0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b] and not new_walls[a, b]
+                ):  # (a wall, written out: faster)
                     through = True
                     break
                 t += 0.5
@@ -129,8 +146,26 @@ def scan_agreement(
 
 @njit(cache=True)
 def revise_scan(
-    free, hits, new_walls, change, stamp, hit_stamp, scan_id, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range,
-    hit_range, new_evidence, gone_evidence,
+    free,
+    hits,
+    new_walls,
+    change,
+    stamp,
+    hit_stamp,
+    scan_id,
+    x,
+    y,
+    heading,
+    ranges,
+    stride,
+    max_range,
+    extent,
+    cell,
+    inv_cell,
+    free_range,
+    hit_range,
+    new_evidence,
+    gone_evidence,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
