@@ -194,6 +194,7 @@ def run_task(agent: str, seed: int, task: str, maze: str = "", overrides: dict[s
         "maze": maze,
         "phases": names,
         "runs": runs,
+        "error": error,
         "cpu_seconds": time.process_time() - began,
     }
 
