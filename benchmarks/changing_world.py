@@ -19,6 +19,8 @@ from pathlib import Path
 
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from benchmarks.targets import target
+from hippo_env.files import write_json
+from hippomaze.bench.references import CHANGING_WORLD, folder
 from hippomaze.changing_world import MAZES, TASKS, layout_measures, run_task, summarise, worlds_measures
 from hippomaze.registry import agent_factory
 
@@ -48,6 +50,8 @@ class ChangingWorldArgs:
     """processes"""
     out: str = ""
     """output JSON ('' = benchmarks/results/changing_world.json)"""
+    write_reference: bool = False
+    """also write the summary as the reference hippomaze bench --changing-world compares with"""
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -89,6 +93,10 @@ def main(argv: list[str] | None = None) -> None:
     tmp.write_text(json.dumps(record, indent=1) + "\n")
     tmp.replace(out)
     print(f"wrote {out}")
+    if args.write_reference:
+        reference = folder() / f"{CHANGING_WORLD}.json"
+        write_json(reference, {"command": record["command"], "seeds": list(args.seeds), "summary": summary})
+        print(f"wrote {reference}")
 
 
 if __name__ == "__main__":

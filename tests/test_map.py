@@ -329,3 +329,75 @@ def test_a_malformed_map_state_raises_value_error(spoil):
         arrays = ExplorationMap(MapConfig(extent=4.0)).state()[1]
     with pytest.raises(ValueError, match="the map's array"):
         ExplorationMap(MapConfig(extent=5.0)).load_state(state, arrays)
+
+
+# ------------------------------------------------------------------ a world that changes
+def _ring(radius: float, n: int = 720) -> np.ndarray:
+    return np.full(n, radius)
+
+
+def _wall(m: ExplorationMap, cell: tuple[int, int]) -> bool:
+    return bool(m.hits[cell] > 0 and m.hits[cell] >= m.free[cell])
+
+
+def test_a_boundary_seen_on_free_ground_becomes_a_new_wall_after_new_wall_evidence_scans():
+    m = ExplorationMap(MapConfig(extent=5.0, new_wall_evidence=5))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)  # a round room of 3 m
+    scan = _ring(3.0)
+    scan[:5] = 1.0  # something 1 m east, where the map knows free ground
+    cell = m.index(1.0, 0.0)
+    for k in range(5):
+        assert not _wall(m, cell), k  # not yet
+        m.revise(np.zeros(2), 0.0, scan, max_range=10.0)
+    assert _wall(m, cell) and m.new_walls[cell]
+    # a ray through a wall written in a run is no evidence against the place: the fit there stays
+    gone = _ring(3.0)
+    assert m.scan_agreement(np.zeros((1, 2)), 0.0, gone, 10.0)[0] == pytest.approx(1.0)
+
+
+def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_a_ray_ends_by_it():
+    config = MapConfig(extent=6.0, gone_wall_evidence=15)
+    m = ExplorationMap(config)
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    east = m.index(3.0, 0.0)
+    assert _wall(m, east)
+    farther = _ring(5.0)  # the wall gone: every ray goes on to 5 m
+    for _ in range(14):
+        m.revise(np.zeros(2), 0.0, farther, max_range=10.0)
+    assert _wall(m, east)  # 14 scans: still held
+    m.revise(np.zeros(2), 0.0, farther, max_range=10.0)
+    assert m.hits[east] == 0 and m.known_free[east]
+    held = ExplorationMap(config)  # rays that end by the wall (it is there, only grazed) keep it
+    held.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    grazed = _ring(3.0)
+    grazed[::20] = 5.0  # every other ray the map reads (one in 10, 5 degrees apart) passes, its neighbours end on the wall
+    for _ in range(30):
+        held.revise(np.zeros(2), 0.0, grazed, max_range=10.0)
+    assert _wall(held, east)
+
+
+def test_without_evidence_settings_a_run_only_fills_in_the_unknown():
+    m = ExplorationMap(MapConfig(extent=5.0, new_wall_evidence=None, gone_wall_evidence=None))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    before = (m.free.copy(), m.hits.copy())
+    scan = _ring(3.0)
+    scan[:5] = 1.0
+    for _ in range(20):
+        m.revise(np.zeros(2), 0.0, scan, max_range=10.0)
+    assert np.array_equal(m.hits, before[1]) and not m.new_walls.any()
+
+
+def test_known_ground_is_free_ground_the_map_holds():
+    m = ExplorationMap(MapConfig(extent=5.0))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    assert m.known_ground(np.array([1.0, 1.0])) and not m.known_ground(np.array([4.5, 4.5]))
+
+
+def test_the_beam_models_short_readings_weigh_short_weight():
+    """A boundary where the map knows free ground costs a place ``short_weight`` of a ray through a wall."""
+    m = ExplorationMap(MapConfig(extent=5.0))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    scan = _ring(3.0)
+    scan[: len(scan) // 2] = 1.5  # half the scan ends short, on free ground
+    full, half, none = (m.scan_agreement(np.zeros((1, 2)), 0.0, scan, 10.0, short_weight=w)[0] for w in (1.0, 0.5, 0.0))
+    assert full == pytest.approx(0.0, abs=0.05) and none == pytest.approx(1.0) and full < half < none

@@ -84,6 +84,13 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         help="local: a pool of --workers processes; serial: one job after another in this process; ray: a local Ray (default: local)",
     )
     p.add_argument("--workers", type=positive_int, default=2, help="jobs run at once (default: 2)")
+    p.add_argument(
+        "--changing-world",
+        action="store_true",
+        help="instead of sample efficiency, measure the agent in a world that changes (new blocks round a known goal, walls added "
+        "or removed in mazes, a shortcut, several worlds) beside the shipped references, on --seeds runner seeds from 11 "
+        "(default 3); writes OUT/changing_world.json and changing_world.md",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     return p
 
@@ -92,6 +99,14 @@ def bench_command(args: argparse.Namespace) -> int:
     """Run ``hippomaze bench`` from parsed arguments; print the table and what was written."""
     if ":" in args.agent and "" not in sys.path and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())  # --agent mymodule:MyAgent finds ./mymodule.py, as `python -m` would
+    if args.changing_world:
+        from hippomaze.bench.changing import run_changing_world
+
+        began = time.perf_counter()
+        document = run_changing_world(args.agent, args.seeds or 3, args.out, args.workers, args.label)
+        print(document["table_markdown"])
+        print(f"wrote {args.out}/changing_world.json and changing_world.md in {time.perf_counter() - began:.0f} s")
+        return 0
     bench = BenchArgs(
         agent=args.agent, mazes=tuple(args.mazes or ("open", "maze1")), seeds=args.seeds, protocol=args.protocol,
         budget=args.budget, switch_budget=args.switch_budget, trials=args.trials, runs=args.runs, quick=args.quick,

@@ -26,6 +26,8 @@ from hippomaze.bench.summary import VariantResult
 REFERENCE_VARIANTS: tuple[str, ...] = ("hippo", "hippo-paper", "dqn", "ppo", "random")
 #: The ``format`` key of a reference file.
 FORMAT = "hippomaze.bench.reference/1"
+#: The reference file of the changing-world measures (``hippomaze bench --changing-world``): not a variant.
+CHANGING_WORLD = "changing_world"
 
 
 @dataclass
@@ -43,7 +45,7 @@ def folder() -> Path:
 
 def available() -> list[str]:
     """The variants with a shipped reference, in :data:`REFERENCE_VARIANTS` order."""
-    present = {p.stem for p in folder().glob("*.json")}
+    present = {p.stem for p in folder().glob("*.json")} - {CHANGING_WORLD}
     return [v for v in REFERENCE_VARIANTS if v in present] + sorted(present - set(REFERENCE_VARIANTS))
 
 
