@@ -427,7 +427,42 @@ TABLES: dict[str, Callable[[], str]] = {
     "footprint": footprint,
     "coverage": coverage,
     "diagnose": diagnose,
+    "changing_world": changing_world,
 }
+
+
+# ------------------------------------------------------------------ a world that changes
+
+
+def changing_world() -> str:
+    """Per agent: the changed-world measures beside their targets."""
+    data = load("changing_world.json")
+    rows = []
+    measures = (
+        ("new blocks: first run in a layout succeeds", "barriers", "first_run_success", "changed_first_run_success", pct),
+        ("new blocks: all runs succeed", "barriers", "success", "changed_success", pct),
+        ("new blocks: median indirectness of successes", "barriers", "median_indirectness_of_successes", "changed_indirectness", num),
+        ("new blocks: anchored steps within 0.5 m", "barriers", "position_within_0_5m", "changed_position", pct),
+        ("new blocks: steps anchored", "barriers", "anchored_share", None, pct),
+        ("mazes changed: first run in a layout succeeds", "mazes", "first_run_success", None, pct),
+        ("mazes changed: all runs succeed", "mazes", "success", None, pct),
+        ("mazes changed: median indirectness of successes", "mazes", "median_indirectness_of_successes", None, num),
+        ("mazes changed: anchored steps within 0.5 m", "mazes", "position_within_0_5m", None, pct),
+        ("a door cut: runs after the first taking it", "shortcut", "taken", "shortcut_taken", pct),
+        ("back in a known world: run 1's median indirectness", "worlds", "run1_back_median", "worlds_return", num),
+        ("first visit: runs 2-4 median", "worlds", "first_visit_runs_2_4_median", None, num),
+        ("back, a new goal: runs 2-4 median", "worlds", "new_goal_back_runs_2_4_median", None, num),
+    )
+    agents = list(data["summary"])
+    for label, task, key, name, show in measures:
+        values = []
+        for agent in agents:
+            entry = data["summary"][agent].get(task, {})
+            values.append((entry.get("all", {}) if task == "mazes" else entry).get(key))
+        goal = target(name) if name else None
+        mine = values[agents.index("hippo")] if "hippo" in agents else None
+        rows.append([label, *(show(v) for v in values), goal.text() if goal else "-", verdict(goal.met(mine)) if goal else "-"])
+    return table(["measure", *agents, "target", "default model"], rows) + source("changing_world.json")
 
 
 def render(name: str) -> str:

@@ -349,26 +349,23 @@ class HippocampalAgent:
         surprising = s.bumped and (
             self.map is None or pi is None or not self.map.wall_near(pi.estimate, s.heading, self.map.config.bump_distance)
         )
-        # in runs the map is written only where the robot is well placed: a misplaced scan would
-        # write walls where there are none
-        mapping = self.map is not None and (dry or s.bumped or self.total_steps % self.map.config.run_every == 0)
-        placed = (
-            pi is not None
-            and mapping
-            and (pi.anchored if dry or self.localisation is None else self.localisation.well_placed(s.ranges, s.heading))
-        )
-        if self.map is not None and pi is not None and placed:
+        # in runs the map is revised only where the robot is well placed (a misplaced scan would
+        # write walls where there are none); the ground it passes counts as searched once anchored
+        if self.map is not None and pi is not None and pi.anchored:
             if dry:
                 self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)
             elif self.total_steps % self.map.config.run_every == 0:
                 mark = self.homing.search_mark if self.homing is not None else None
-                self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark)
+                if self._well_placed(s):
+                    self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark)
+                else:
+                    self.map.mark(pi.estimate, search_radius=mark)
             if dry and self.exploration is not None:
                 extra = self.exploration.recruits(self.total_steps)
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
-            if s.bumped and (dry or self.map.config.new_wall_evidence is not None):
+            if s.bumped and (dry or (self.map.config.new_wall_evidence is not None and self._well_placed(s))):
                 self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance, new=not dry)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)
@@ -379,6 +376,10 @@ class HippocampalAgent:
             self.model.walk.turn_at_random()
             if self.reflexes is not None:
                 self.reflexes.bumped(self.last_decision)
+
+    def _well_placed(self, s: Senses) -> bool:
+        """In a run: whether the map may be revised from this step's senses (:meth:`Localisation.well_placed`)."""
+        return self.localisation.well_placed(s.ranges, s.heading) if self.localisation is not None else bool(self.pi and self.pi.anchored)
 
     def _rewarded(self, trusted: bool) -> None:
         """The reward: replay (Algorithm 1) writes the goal's reward map, and homing remembers

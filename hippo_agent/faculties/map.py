@@ -175,9 +175,9 @@ class ExplorationMap:
             float(max_range), self.extent, self.cell, self._inv_cell, self.free_range, self.hit_range, unknown_only,
         ):  # fmt: skip
             self.revision += 1
-        self._mark(position, search_radius)
+        self.mark(position, search_radius)
 
-    def _mark(self, position: np.ndarray, search_radius: float | None) -> None:
+    def mark(self, position: np.ndarray, search_radius: float | None = None) -> None:
         """Mark the ground round ``position`` visited, and searched within ``search_radius`` (by default the map's)."""
         mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
         radius = self.search_radius if search_radius is None else float(search_radius)
@@ -203,7 +203,7 @@ class ExplorationMap:
             self.hit_range, new or 0, gone or 0,
         ):  # fmt: skip
             self.revision += 1
-        self._mark(position, search_radius)
+        self.mark(position, search_radius)
 
     def forget_searched_near(self, centre: np.ndarray, radius: float) -> None:
         """Count the ground within ``radius`` of ``centre`` as not searched in this run."""
