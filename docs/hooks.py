@@ -410,27 +410,6 @@ def diagnose() -> str:
     return table(header, rows) + f"\n\n*From `benchmarks/results/diagnose/*.json`, made by {'; '.join(commands)}.*"
 
 
-TABLES: dict[str, Callable[[], str]] = {
-    "maze_suite": maze_suite,
-    "maze_suite_random_walk": maze_suite_random_walk,
-    "sample_efficiency": sample_efficiency,
-    "goal_switch": goal_switch,
-    "paper_claims": paper_claims,
-    "paper_details": paper_details,
-    "paper_verdicts": paper_verdicts,
-    "agent_throughput": agent_throughput,
-    "agent_scaling": agent_scaling,
-    "agent_growth": agent_growth,
-    "env_scaling": env_scaling,
-    "env_throughput": env_throughput,
-    "end_to_end": end_to_end,
-    "footprint": footprint,
-    "coverage": coverage,
-    "diagnose": diagnose,
-    "changing_world": changing_world,
-}
-
-
 # ------------------------------------------------------------------ a world that changes
 
 
@@ -463,6 +442,27 @@ def changing_world() -> str:
         mine = values[agents.index("hippo")] if "hippo" in agents else None
         rows.append([label, *(show(v) for v in values), goal.text() if goal else "-", verdict(goal.met(mine)) if goal else "-"])
     return table(["measure", *agents, "target", "default model"], rows) + source("changing_world.json")
+
+
+TABLES: dict[str, Callable[[], str]] = {
+    "maze_suite": maze_suite,
+    "maze_suite_random_walk": maze_suite_random_walk,
+    "sample_efficiency": sample_efficiency,
+    "goal_switch": goal_switch,
+    "paper_claims": paper_claims,
+    "paper_details": paper_details,
+    "paper_verdicts": paper_verdicts,
+    "agent_throughput": agent_throughput,
+    "agent_scaling": agent_scaling,
+    "agent_growth": agent_growth,
+    "env_scaling": env_scaling,
+    "env_throughput": env_throughput,
+    "end_to_end": end_to_end,
+    "footprint": footprint,
+    "coverage": coverage,
+    "diagnose": diagnose,
+    "changing_world": changing_world,
+}
 
 
 def render(name: str) -> str:
