@@ -5,8 +5,7 @@ observe loop every agent is driven by.
 that follows the Agent protocol (:mod:`hippo_env.agent_protocol`); or a schedule of phases
 (:mod:`hippo_env.schedule`): mazes that change, goals kept or moved, announced or not. Goals and
 starts are drawn by the runner from its own seeded generator, so every agent given the same seed
-faces exactly the same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent.
-"""
+faces exactly the same goals and starts. :func:`rollout` is the loop itself, for anyone who drives an agent."""
 
 from __future__ import annotations
 
@@ -509,8 +508,8 @@ class DMTPFailed(Exception):
     """An exception stopped :func:`run_dmtp`: raised from it (``__cause__``, with its traceback).
 
     ``result`` holds every run that finished, with ``complete=False`` and ``error`` naming the
-    exception; ``doing`` says what the runner was doing (e.g. ``"trial 2, run 1"``).
-    """
+    exception; ``doing`` says what the runner was doing (e.g. ``"trial 2, run 1"``). Pickled (out of
+    a worker process), it is a RuntimeError with the same message."""
 
     def __init__(self, result: DMTPResult, doing: str) -> None:
         super().__init__(f"{result.error} ({doing}; {len(result.run_records)} of {result.planned_runs()} runs finished)")
@@ -518,7 +517,6 @@ class DMTPFailed(Exception):
         self.doing = doing
 
     def __reduce__(self) -> tuple[Any, tuple[str]]:
-        """Pickled (out of a worker process) as a RuntimeError with the same message: the result stays behind."""
         return RuntimeError, (str(self),)
 
 

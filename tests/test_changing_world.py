@@ -81,3 +81,18 @@ def test_summaries_per_agent_and_the_bench_table():
     assert summary["a"]["barriers"]["success"] == 1.0 and "mazes" not in summary["a"]
     text = table(summary)
     assert text.splitlines()[0].startswith("| agent | blocks: first run") and "| a | 1.00 | 1.00 | 0.20 | 1.00 | - |" in text
+
+
+def test_a_failed_dmtp_run_pickles_as_a_runtime_error_with_its_message():
+    """A process pool sends the failure back to the parent (a DMTPFailed holds its result, which stays behind)."""
+    import pickle
+
+    from hippo_env.dmtp import DMTPFailed, run_dmtp
+
+    def broken(observation_space, action_space, *, seed):
+        raise ValueError("no agent today")
+
+    with pytest.raises(DMTPFailed) as failed:
+        run_dmtp(broken, maze="open", trials=1, runs=1, progress=False)
+    again = pickle.loads(pickle.dumps(failed.value))
+    assert type(again) is RuntimeError and "no agent today" in str(again)

@@ -222,7 +222,24 @@ def test_grid_indices_by_multiplication_equal_those_by_division():
     for inv_cell in (m._inv_cell, 0.0):
         out = np.empty(len(points))
         scan_agreement(
-            m.free, m.hits, m.new_walls, 0.0, 0.0, False, points, 0.3, ranges, 20, 10.0, m.extent, m.cell, inv_cell, m.hit_range, 1.0, out
+            m.free,
+            m.hits,
+            m.new_walls,
+            0.0,
+            0.0,
+            False,
+            points,
+            0.3,
+            ranges,
+            20,
+            10.0,
+            m.extent,
+            m.cell,
+            inv_cell,
+            m.hit_range,
+            1.0,
+            False,
+            out,
         )
         fits.append(out)
     np.testing.assert_array_equal(fits[0], fits[1])

@@ -80,3 +80,21 @@ def test_worlds_off_writes_the_second_dry_run_over_the_first():
     env.reset(options={"maze": "maze3", "goal": None})
     agent.dry_run(env)
     assert agent.worlds is None and agent.map.explored_area() >= area  # one map holds both
+
+
+def test_a_file_saved_before_worlds_and_map_revision_still_loads(tmp_path):
+    """A version-5 file without the worlds' state and the map's change grids loads as one world."""
+    import json
+
+    env = make_env("open", seed=0)
+    agent = HippocampalAgent(env.observation_space, env.action_space, CONFIG.with_values({"model.dry_run_steps": 200}), seed=0)
+    agent.dry_run(env)
+    agent.save(tmp_path / "new.npz")
+    with np.load(tmp_path / "new.npz") as data:
+        arrays = {k: data[k] for k in data.files if not k.startswith("worlds.") and k not in ("map.change", "map.new_walls")}
+    meta = json.loads(str(arrays["__meta__"]))
+    del meta["parts"]["worlds"]
+    arrays["__meta__"] = np.array(json.dumps(meta))
+    np.savez_compressed(tmp_path / "old.npz", **arrays)
+    loaded = HippocampalAgent.load(tmp_path / "old.npz")
+    assert loaded.worlds.kept == [] and not loaded.map.new_walls.any() and np.array_equal(loaded.map.hits, agent.map.hits)

@@ -13,7 +13,6 @@ __all__ = [
     "lines_clear",
     "mark_disk",
     "path_to",
-    "revise_scan",
     "scan_agreement",
     "search",
     "search_disk",
@@ -84,11 +83,13 @@ def scan_agreement(
     inv_cell,
     hit_range,
     short_weight,
+    judged_only,
     out,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
     ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
-    wall written in a run (``new_walls``)."""
+    wall written in a run (``new_walls``). ``judged_only``: a ray ending where the map knows
+    nothing is left out, and a place where no ray is judged fits 1."""
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -139,129 +140,9 @@ def scan_agreement(
             elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
                 counted += short_weight
                 total -= short_weight
-            else:
+            elif not judged_only:
                 counted += 1.0
-        out[p] = total / counted if counted else 0.0
-
-
-@njit(cache=True)
-def revise_scan(
-    free,
-    hits,
-    new_walls,
-    change,
-    stamp,
-    hit_stamp,
-    scan_id,
-    x,
-    y,
-    heading,
-    ranges,
-    stride,
-    max_range,
-    extent,
-    cell,
-    inv_cell,
-    free_range,
-    hit_range,
-    new_evidence,
-    gone_evidence,
-):  # pragma: no cover - compiled
-    """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
-    cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
-    through its middle (two samples in the cell, the ray ending at least a cell beyond, and no ray
-    of the scan ending within a cell of it: a thin wall's cell is partly free, and rays graze it)
-    and a boundary where the map knows free ground with no wall beside it each add one to the
-    cell's ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is
-    cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
-    boundary is made a wall, marked in ``new_walls`` (0: never). A reading that agrees with
-    a cell resets its count. Returns how many cells changed."""
-    n = free.shape[0]
-    changed = 0
-    n_rays = ranges.size
-    step = cell * 0.5
-    for r in range(0, n_rays, stride):  # where this scan's rays end
-        d = float(ranges[r])
-        if d < hit_range and d < max_range * 0.999:
-            angle = heading + 2.0 * math.pi * r / n_rays
-            i = _grid_index(x + d * math.cos(angle) + extent, cell, inv_cell)
-            j = _grid_index(y + d * math.sin(angle) + extent, cell, inv_cell)
-            if 0 <= i < n and 0 <= j < n:
-                hit_stamp[i, j] = scan_id
-    for r in range(0, n_rays, stride):
-        angle = heading + 2.0 * math.pi * r / n_rays
-        c, s = math.cos(angle), math.sin(angle)
-        d = float(ranges[r])
-        reach = min(d - step, free_range)
-        t = 0.0
-        last_i, last_j, inside = -1, -1, 0
-        while t < reach:
-            i = _grid_index(x + t * c + extent, cell, inv_cell)
-            j = _grid_index(y + t * s + extent, cell, inv_cell)
-            if i < 0 or j < 0 or i >= n or j >= n:
-                break
-            if i != last_i or j != last_j:
-                last_i, last_j, inside = i, j, 0
-                if free[i, j] == 0 and hits[i, j] == 0:
-                    free[i, j] = 1
-                    changed += 1
-                elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
-                    change[i, j] = 0  # free, as the map holds
-            inside += 1
-            wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
-            gone = new_evidence if new_walls[i, j] else gone_evidence
-            if wall and gone > 0 and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
-                stamp[i, j] = scan_id
-                if _hit_near(hit_stamp, i, j, scan_id):
-                    change[i, j] = 0  # a ray ended by it: the wall is there
-                    t += step
-                    continue
-                change[i, j] += 1
-                if change[i, j] >= gone:  # the wall is gone
-                    hits[i, j] = 0
-                    new_walls[i, j] = False
-                    free[i, j] = max(free[i, j], 1)
-                    change[i, j] = 0
-                    changed += 1
-            t += step
-        if not (d < hit_range and d < max_range * 0.999):
-            continue
-        i = _grid_index(x + d * c + extent, cell, inv_cell)
-        j = _grid_index(y + d * s + extent, cell, inv_cell)
-        if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
-            continue
-        if free[i, j] == 0 and hits[i, j] == 0:
-            hits[i, j] = 1
-            changed += 1
-            continue
-        near_wall = False
-        for a in range(i - 1, i + 2):
-            for b in range(j - 1, j + 2):
-                if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
-                    near_wall = True
-        if near_wall:
-            if stamp[i, j] != scan_id:
-                change[i, j] = 0  # a boundary where the map holds one
-        elif new_evidence > 0 and stamp[i, j] != scan_id:
-            stamp[i, j] = scan_id
-            change[i, j] += 1
-            if change[i, j] >= new_evidence:  # a new wall
-                hits[i, j] = min(int(free[i, j]) + 1, 65535)
-                new_walls[i, j] = True
-                change[i, j] = 0
-                changed += 1
-    return changed
-
-
-@njit(cache=True, inline="always")
-def _hit_near(hit_stamp, i, j, scan_id):  # pragma: no cover - compiled
-    """Whether a ray of scan ``scan_id`` ended within one cell of ``(i, j)``."""
-    n = hit_stamp.shape[0]
-    for a in range(max(i - 1, 0), min(i + 2, n)):
-        for b in range(max(j - 1, 0), min(j + 2, n)):
-            if hit_stamp[a, b] == scan_id:
-                return True
-    return False
+        out[p] = total / counted if counted else (1.0 if judged_only else 0.0)
 
 
 @njit(cache=True)

@@ -76,9 +76,9 @@ class LocalisationConfig(Section):
     """The window (steps) of that running rate."""
     revise_agreement: float = param(0.8, ge=-1, le=1)
     """In runs, the map is revised from the scan (:meth:`ExplorationMap.revise`) only while the fit at
-    the estimate, short readings left out, is at least this: rays through the walls it holds, which
-    only a wrong place (or a removed wall) explains, are rare. A map revised from a wrong place
-    would drift with the estimate."""
+    the estimate, over the rays the map can judge with short readings left out, is at least this:
+    rays through the walls it holds, which only a wrong place (or a removed wall) explains, are
+    rare. A map revised from a wrong place would drift with the estimate."""
     short_weight: float = param(0.25, ge=0, le=1)
     """In runs, how much a reading shorter than the map predicts (a boundary on ground the map
     knows free) counts in the scan's fit, against 1 for a ray through a wall: the beam model's
@@ -122,7 +122,7 @@ class Localisation:
         the map may be revised from this scan."""
         if not self.trusted:
             return False
-        fit = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0)
+        fit = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0, judged_only=True)
         return bool(fit[0] >= self.config.revise_agreement)
 
     def reset(self) -> None:
@@ -182,8 +182,8 @@ class Localisation:
         low or a look-alike place fits better by ``doubt_margin``."""
         if dry:
             return
-        if just_anchored and not self.map.known_ground(self.pi.estimate):
-            self.relocalise()  # off the map: not where the robot can stand
+        if just_anchored and not self.map.known_ground(self.pi.estimate) and self.map.explored_area() > 0.0:
+            self.relocalise()  # off the map it holds: not where the robot can stand
             return
         if just_anchored:
             self._pick_look_alikes(ranges, heading)

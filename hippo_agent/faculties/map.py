@@ -44,13 +44,13 @@ from hippo_agent.faculties._map_kernels import (
     lines_clear,
     mark_disk,
     path_to,
-    revise_scan,
     scan_agreement,
     search,
     search_disk,
     walkable_points,
     waypoint,
 )
+from hippo_agent.faculties._revise_kernel import revise_scan
 from hippo_agent.sections import Section, param
 
 __all__ = ["ExplorationMap", "MapConfig"]
@@ -243,6 +243,7 @@ class ExplorationMap:
         max_range: float,
         around: np.ndarray | None = None,
         short_weight: float = 1.0,
+        judged_only: bool = False,
     ) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
         map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
@@ -264,13 +265,15 @@ class ExplorationMap:
         ``short_weight`` below 1, a new obstacle costs a place less of its fit than a ray through a
         wall, which nothing but a wrong place (or a wall since removed) explains. A ray through a
         wall written in a run (:attr:`new_walls`: a new obstacle, seen or bumped into) does not
-        count against a place: such walls come and go (the blocks of one layout gone in the next)."""
+        count against a place: such walls come and go (the blocks of one layout gone in the next).
+        ``judged_only``: rays ending where the map knows nothing are left out, and a place where no
+        ray is judged fits 1 (nothing the map holds says it is wrong)."""
         x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         scan_agreement(
             self.free, self.hits, self.new_walls, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
-            self.cell, self._inv_cell, self.hit_range, float(short_weight), out,
+            self.cell, self._inv_cell, self.hit_range, float(short_weight), bool(judged_only), out,
         )  # fmt: skip
         return out
 
