@@ -74,9 +74,9 @@ def maze_schedule(name: str, seed: int) -> dict[str, Any]:
     cut = int(300 * max(1.0, spec.size[0] / 10.0))
     changes = []
     for k, change in enumerate(MAZE_CHANGES):
-        extra = {"count": 6} if change == "blocks" else {}
+        extra: dict[str, Any] = {"count": 6} if change == "blocks" else {}
         try:
-            change_maze(spec, change, 1000 * seed + k, **extra)
+            change_maze(spec, change, 1000 * seed + k, count=extra.get("count", 12))
         except ValueError:
             continue  # no such change in this maze (no wall to cut a door in, no gap to close)
         changes.append(_kept_goal(change, {"base": base, "change": change, "seed": 1000 * seed + k, **extra}, cut))
@@ -186,7 +186,7 @@ def run_task(agent: str, seed: int, task: str, maze: str = "", overrides: dict[s
         record.update(counts)
     if task == "mazes":
         add_old_geodesic(runs, result)
-    names = [p["name"] for p in result.schedule["phases"]]
+    names = [p["name"] for p in (result.schedule or {}).get("phases", [])]
     return {
         "agent": agent,
         "seed": seed,
