@@ -119,16 +119,10 @@ def test_on_anchoring_the_best_fitting_places_far_enough_away_are_picked_as_look
     assert agent.pi.anchored
 
 
-@pytest.mark.parametrize(("lost_bump_rate", "facing_a_known_wall"), [(None, False), (0.15, False), (0.15, True)])
-def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate, facing_a_known_wall):
-    """Bumps where the map shows free ground mean a look-alike place: once the running mean of
-    bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
-    estimate is dropped; with ``None``, never. Bumps into a wall the map holds are explained by it
-    and do not count. (The world taken not to change: a bump does not write a wall.)"""
-    env = make_env(small_maze, seed=1)
-    config = AgentConfig().with_values(
-        {"model.dry_run_steps": 1500, "localisation.lost_bump_rate": lost_bump_rate, "map.new_wall_evidence": None}
-    )
+def thirty_steps_into_a_run(maze: str, values: dict) -> tuple[HippocampalAgent, dict]:
+    """An agent after a 1,500-step dry run in ``maze`` and 30 steps of a run from its corner; its last observation."""
+    env = make_env(maze, seed=1)
+    config = AgentConfig().with_values({"model.dry_run_steps": 1500, **values})
     agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=1)
     agent.dry_run(env)
     agent.start_trial(0)
@@ -138,6 +132,17 @@ def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bum
         action = agent.act(obs)
         obs, _, _, _, info = env.step(action)
         agent.observe(action, obs, 0.0, False, False, info)
+    return agent, obs
+
+
+@pytest.mark.parametrize(("lost_bump_rate", "facing_a_known_wall"), [(None, False), (0.15, False), (0.15, True)])
+def test_a_run_that_keeps_bumping_into_walls_anchors_afresh(small_maze, lost_bump_rate, facing_a_known_wall):
+    """Bumps where the map shows free ground mean a look-alike place: once the running mean of
+    bumps per step passes ``lost_bump_rate`` (9 bumps in a row at 0.15 over 50 steps), the
+    estimate is dropped; with ``None``, never. Bumps into a wall the map holds are explained by it
+    and do not count. (The world taken not to change: a bump does not write a wall.)"""
+    values = {"localisation.lost_bump_rate": lost_bump_rate, "map.new_wall_evidence": None}
+    agent, obs = thirty_steps_into_a_run(small_maze, values)
     assert agent.pi.anchored
     heading = unpack(obs)[2]
     bump_distance = agent.config.map.bump_distance
@@ -219,16 +224,7 @@ def test_a_malformed_localisation_state_raises_value_error(spoil):
 def test_in_a_world_that_may_change_a_bump_on_free_ground_writes_a_wall(small_maze):
     """Well placed in a run, a bump where the map shows free ground is a new obstacle: the map
     holds a wall there at once, later bumps there are explained, and the estimate stays anchored."""
-    env = make_env(small_maze, seed=1)
-    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values({"model.dry_run_steps": 1500}), seed=1)
-    agent.dry_run(env)
-    agent.start_trial(0)
-    obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
-    agent.reset(obs, info)
-    for _ in range(30):
-        action = agent.act(obs)
-        obs, _, _, _, info = env.step(action)
-        agent.observe(action, obs, 0.0, False, False, info)
+    agent, obs = thirty_steps_into_a_run(small_maze, {})
     assert agent.localisation.trusted
     heading, distance = unpack(obs)[2], agent.config.map.bump_distance
     assert not agent.map.wall_near(agent.pi.estimate, heading, distance)

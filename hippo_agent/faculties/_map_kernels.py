@@ -129,12 +129,7 @@ def scan_agreement(
             if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
                 counted += 1.0
                 continue
-            wall = False
-            for a in range(i - 1, i + 2):
-                for b in range(j - 1, j + 2):
-                    if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
-                        wall = True
-            if wall:
+            if wall_beside(free, hits, i, j):
                 counted += 1.0
                 total += 1.0
             elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
@@ -143,6 +138,16 @@ def scan_agreement(
             elif not judged_only:
                 counted += 1.0
         out[p] = total / counted if counted else (1.0 if judged_only else 0.0)
+
+
+@njit(cache=True, inline="always")
+def wall_beside(free, hits, i, j):  # pragma: no cover - compiled
+    """Whether the map holds a wall in the 3 x 3 cells round ``(i, j)`` (not at the grid's edge)."""
+    for a in range(i - 1, i + 2):
+        for b in range(j - 1, j + 2):
+            if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
+                return True
+    return False
 
 
 @njit(cache=True)

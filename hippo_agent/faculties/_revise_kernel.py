@@ -6,7 +6,7 @@ import math
 
 from numba import njit
 
-from hippo_agent.faculties._map_kernels import _grid_index
+from hippo_agent.faculties._map_kernels import _grid_index, wall_beside
 
 __all__ = ["revise_scan"]
 
@@ -101,12 +101,7 @@ def revise_scan(
             hits[i, j] = 1
             changed += 1
             continue
-        near_wall = False
-        for a in range(i - 1, i + 2):
-            for b in range(j - 1, j + 2):
-                if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
-                    near_wall = True
-        if near_wall:
+        if wall_beside(free, hits, i, j):
             if stamp[i, j] != scan_id:
                 change[i, j] = 0  # a boundary where the map holds one
         elif new_evidence > 0 and stamp[i, j] != scan_id:
