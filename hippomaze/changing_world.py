@@ -142,7 +142,8 @@ class Watched:
             start_trial(trial)
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
-        self.runs.append({"steps": 0, "anchored": 0, "placed": 0, "off_map": 0})
+        estimates = getattr(self.agent, "pi", None) is not None  # (an agent with no estimate has no position figures)
+        self.runs.append({"steps": 0, **({"anchored": 0, "placed": 0, "off_map": 0} if estimates else {})})
         self.agent.reset(observation, info)
 
     def act(self, observation: Any) -> Any:
@@ -220,7 +221,7 @@ def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     indirectness, and the position figures, over ``rows``' changed layouts."""
     runs = changed_runs(rows)
     firsts = [r for r in runs if r["run"] == 0]
-    steps = sum(r.get("steps", 0) for r in runs)
+    steps = sum(r.get("steps", 0) for r in runs if "anchored" in r)
     anchored = sum(r.get("anchored", 0) for r in runs)
     placed = sum(r.get("placed", 0) for r in runs)
     return {
@@ -231,7 +232,7 @@ def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "median_indirectness_of_successes": median_or_none(r["indirectness"] for r in runs if r["success"]),
         "anchored_share": anchored / steps if steps else None,
         "position_within_0_5m": placed / anchored if anchored else None,
-        "anchored_off_map_steps": sum(r.get("off_map", 0) for r in runs),
+        "anchored_off_map_steps": sum(r["off_map"] for r in runs if "off_map" in r) if steps else None,
     }
 
 
