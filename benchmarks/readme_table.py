@@ -222,16 +222,18 @@ def scaling_rows() -> list[list[str]]:
 # ------------------------------------------------------------------ a world that changes
 
 
+def share(goal: Any) -> str:
+    """A target on a share, as a percentage: ``>= 95 %``."""
+    return f"{goal.op} {pct(goal.bound())}"
+
+
 def changing_world_row() -> list[str]:
     """New blocks round a known goal, a door cut, a known world again (``changing_world.json``, the default model)."""
     summary = records.load("changing_world.json")["summary"]["hippo"]
     blocks, shortcut, worlds = summary["barriers"], summary["shortcut"], summary["worlds"]
     first, success, indirect = target("changed_first_run_success"), target("changed_success"), target("changed_indirectness")
     door, back = target("shortcut_taken"), target("worlds_return")
-    label = (
-        "a world that changes: new blocks round a known goal, first run / all runs reaching it, median indirectness;"
-        " a door cut, taken; run 1 back in a known world, median indirectness"
-    )
+    label = "a world that changes: new blocks, first run / all runs reached, indirectness; a door cut, taken; run 1 back in a known world"
     measured = (
         f"{pct(blocks['first_run_success'])} / {pct(blocks['success'])}, {num(blocks['median_indirectness_of_successes'])};"
         f" {pct(shortcut['taken'])}; {num(worlds['run1_back_median'])}"
@@ -239,7 +241,7 @@ def changing_world_row() -> list[str]:
     return [
         label,
         measured,
-        f"{first.text()} / {success.text()}, {indirect.text()}; {door.text()}; {back.text()}: "
+        f"{share(first)} / {share(success)}, {indirect.text()}; {share(door)}; {back.text()}: "
         + outcome(
             [
                 first.met(blocks["first_run_success"]),

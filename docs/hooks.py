@@ -440,7 +440,8 @@ def changing_world() -> str:
             values.append((entry.get("all", {}) if task == "mazes" else entry).get(key))
         goal = target(name) if name else None
         mine = values[agents.index("hippo")] if "hippo" in agents else None
-        rows.append([label, *(show(v) for v in values), goal.text() if goal else "-", verdict(goal.met(mine)) if goal else "-"])
+        bound = "-" if goal is None else (f"{goal.op} {pct(goal.bound())}" if show is pct else goal.text())
+        rows.append([label, *(show(v) for v in values), bound, verdict(goal.met(mine)) if goal else "-"])
     return table(["measure", *agents, "target", "default model"], rows) + source("changing_world.json")
 
 
