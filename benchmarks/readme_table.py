@@ -197,7 +197,7 @@ def scaling_rows() -> list[list[str]]:
     """Both models at 10,000 place cells (``agent_scaling_<model>.json``)."""
     figures = [records.scaling_figures(records.load(f"agent_scaling_{model}.json")) for model in ("default", "paper")]
     speed, memory, replay = target("scaling_speed"), target("scaling_memory_mb"), target("scaling_replay_ms")
-    cells = f"{num(speed['place_cells'])} place cells, the default / the paper's model"
+    cells = f"{num(speed['place_cells'])} place cells, default / paper's model"
 
     def measured(key: str, unit: str, digits: int = 2) -> str:
         return " / ".join(num(round(f[key], digits)) if f["measured"] else NOT_MEASURED for f in figures) + unit
@@ -207,7 +207,7 @@ def scaling_rows() -> list[list[str]]:
 
     return [
         [
-            f"{cells}: speed over its own at {num(speed['against_place_cells'])} (the slower walk); peak memory; one replay",
+            f"{cells}: speed over {num(speed['against_place_cells'])} cells' (slower walk); peak memory; one replay",
             f"{measured('speed_ratio', 'x')}; {measured('peak_rss_mb', ' MB', 0)}; {measured('replay_ms', ' ms', 0)}",
             f"{speed.text(unit='x')}; {memory.text(unit=' MB')}; {replay.text(unit=' ms')}: "
             + outcome(
@@ -233,7 +233,7 @@ def changing_world_row() -> list[str]:
     blocks, shortcut, worlds = summary["barriers"], summary["shortcut"], summary["worlds"]
     first, success, indirect = target("changed_first_run_success"), target("changed_success"), target("changed_indirectness")
     door, back = target("shortcut_taken"), target("worlds_return")
-    label = "a world that changes: new blocks, first run / all runs reached, indirectness; a door cut, taken; run 1 back in a known world"
+    label = "changed world: new blocks, first / all runs reached, indirectness; a door taken; run 1 back in a known world"
     measured = (
         f"{pct(blocks['first_run_success'])} / {pct(blocks['success'])}, {num(blocks['median_indirectness_of_successes'])};"
         f" {pct(shortcut['taken'])}; {num(worlds['run1_back_median'])}"
