@@ -13,27 +13,29 @@ The statistics over seeds, by rliable (Agarwal et al. 2021, "Deep RL at the edge
 statistical precipice"; the ``bench`` extra):
 
 - **IQM** (interquartile mean: the 25 % trimmed mean over every seed of every maze) with a 95 %
-  **stratified bootstrap** interval: seeds are resampled within each maze (``rliable.library.get_interval_estimates``,
-  percentile method);
+  **stratified bootstrap** interval: seeds are resampled within each maze, as
+  ``rliable.library.get_interval_estimates`` does (percentile method), here drawn from a
+  generator of the estimate's own (:func:`stratified_bootstrap`);
 - **probability of improvement** P(X faster than Y) (``rliable.metrics.probability_of_improvement``:
   the Mann-Whitney statistic per maze, averaged over mazes), with its interval from independent stratified resamples;
 - **performance profiles**: the share of (seed, maze) pairs direct within x steps, for every x
-  (``rliable.library.create_performance_profile``), with intervals.
+  (rliable's score distribution), with intervals.
 
 Steps to criterion are "lower is better", and a seed may never get there within its budget.
 Such a seed counts as slower than every seed that did: it enters as :data:`NEVER`, and an
 estimate that :data:`NEVER` reaches (above :data:`NEVER_ABOVE`) is reported as ``None``, shown
 "> budget". For P(improvement) and the profiles, steps enter negated (higher is better).
 
-rliable draws its resamples from NumPy's global generator; each estimate here seeds it, and
-puts its state back, so the numbers are the same on every call and nothing else is disturbed.
+rliable's own bootstrap draws from NumPy's global generator, whatever ``random_state`` it is
+given; the resamples here are drawn the same way from a generator seeded per estimate, so the
+numbers are rliable's and the same on every call, and no global state is touched. The point
+estimates are rliable's.
 """
 
 from __future__ import annotations
 
-import contextlib
 import math
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -148,17 +150,25 @@ def method() -> dict[str, Any]:
     }
 
 
-@contextlib.contextmanager
-def _seeded(seed: int) -> Iterator[None]:
-    """NumPy's global generator seeded, its state restored afterwards. rliable's
-    ``StratifiedBootstrap.update_indices`` draws with ``np.random.choice`` even when given a
-    ``random_state`` (rliable 1.x), so a Generator cannot be passed in its place."""
-    state = np.random.get_state()
-    np.random.seed(seed)
-    try:
-        yield
-    finally:
-        np.random.set_state(state)
+def stratified_bootstrap(samples: Sequence[np.ndarray], statistic: Callable[..., np.ndarray], seed: int, reps: int = REPS) -> np.ndarray:
+    """The ``(1 - CONFIDENCE) / 2`` and ``(1 + CONFIDENCE) / 2`` percentiles of ``statistic`` over
+    ``reps`` stratified resamples: each of ``samples`` (``(seeds, mazes, ...)``, their seed counts
+    may differ) has its seeds resampled with replacement within each maze, independently of the
+    others. Returns a ``(2, ...)`` array: the lower and the upper bounds of each of the statistic's
+    values.
+
+    The resamples are those of rliable's ``StratifiedBootstrap`` (one sample) and
+    ``StratifiedIndependentBootstrap`` (several), drawn in the same order from the generator
+    ``numpy.random.RandomState(seed)`` that this function owns, where rliable draws them from NumPy's
+    global one: the intervals equal rliable's with the global generator seeded with ``seed``."""
+    rng = np.random.RandomState(seed)
+    grids = [np.ogrid[tuple(slice(n) for n in (0, *x.shape[1:]))][1:] for x in samples]
+    values = []
+    for _ in range(reps):
+        resampled = [x[(rng.choice(x.shape[0], x.shape, replace=True), *grid)] for x, grid in zip(samples, grids)]
+        values.append(np.asarray(statistic(*resampled), dtype=float))
+    tail = 100 * (1 - CONFIDENCE) / 2
+    return np.percentile(np.array(values), [tail, 100 - tail], axis=0)
 
 
 @dataclass
@@ -189,15 +199,11 @@ def steps_matrix(columns: Sequence[Sequence[float | None]]) -> np.ndarray | None
 
 def iqm_interval(scores: np.ndarray, seed: int = 0, steps: bool = True) -> Interval:
     """The IQM of ``scores`` (``(seeds, mazes)``) and its stratified-bootstrap interval (none with fewer than 3 values)."""
-    library, metrics = _rliable()
+    _, metrics = _rliable()
     point = float(metrics.aggregate_iqm(scores))
     if scores.size < 3:
         return Interval(_shown(point, steps), None, None)
-    with _seeded(seed):
-        _, intervals = library.get_interval_estimates(
-            {"x": scores}, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=REPS, confidence_interval_size=CONFIDENCE
-        )
-    low, high = intervals["x"][:, 0]
+    low, high = stratified_bootstrap([scores], metrics.aggregate_iqm, seed)
     return Interval(_shown(point, steps), _shown(low, steps), _shown(high, steps))
 
 
@@ -215,7 +221,6 @@ def curve_band(points: np.ndarray, seed: int = 0) -> tuple[list[float | None], l
     given only where every seed of every maze has one (the bootstrap resamples a fixed set of
     seeds); elsewhere ``None``. No interval with fewer than 3 seeds x mazes.
     """
-    library, _ = _rliable()
     n = points.shape[-1]
     iqm: list[float | None] = [None] * n
     low: list[float | None] = [None] * n
@@ -226,9 +231,7 @@ def curve_band(points: np.ndarray, seed: int = 0) -> tuple[list[float | None], l
     scores = points[..., keep]
     centre = iqm_at_each_x(scores)
     if scores.shape[0] * scores.shape[1] >= 3:
-        with _seeded(seed):
-            _, intervals = library.get_interval_estimates({"x": scores}, iqm_at_each_x, reps=REPS, confidence_interval_size=CONFIDENCE)
-        bounds = intervals["x"]
+        bounds = stratified_bootstrap([scores], iqm_at_each_x, seed)
     else:
         bounds = np.full((2, keep.size), np.nan)
     for k, j in enumerate(keep):
@@ -242,19 +245,12 @@ def probability_of_improvement(faster: np.ndarray, slower: np.ndarray, seed: int
     Both ``(seeds, mazes)`` with the same mazes in the same order (their seed counts may differ).
     Ties (both never, say) count one half.
     """
-    library, metrics = _rliable()
+    _, metrics = _rliable()
     x, y = -faster, -slower  # rliable: higher is better
     point = float(metrics.probability_of_improvement(x, y))
     if x.shape[0] < 2 or y.shape[0] < 2:
         return Interval(_shown(point, False), None, None)
-    with _seeded(seed):
-        _, intervals = library.get_interval_estimates(
-            {"xy": [x, y]},
-            lambda a, b: np.array([metrics.probability_of_improvement(a, b)]),
-            reps=REPS,
-            confidence_interval_size=CONFIDENCE,
-        )
-    low, high = intervals["xy"][:, 0]
+    low, high = stratified_bootstrap([x, y], metrics.probability_of_improvement, seed)
     return Interval(_shown(point, False), _shown(low, False), _shown(high, False))
 
 
@@ -263,17 +259,11 @@ def performance_profile(scores: np.ndarray, taus: np.ndarray, seed: int = 0) -> 
 
     ``scores``: steps to criterion, ``(seeds, mazes)``, never = :data:`NEVER`.
     """
-    library, _ = _rliable()
-    thresholds = -np.asarray(taus, float)  # rliable's profile is P(score > tau): steps < tau is -steps > -tau
+    taus = np.asarray(taus, float)
 
-    def score_distribution(resampled: np.ndarray, tau_list: np.ndarray) -> np.ndarray:  # rliable's default profile, every tau at once
-        return np.mean(resampled.reshape(-1, 1) > np.asarray(tau_list), axis=0)
+    def share_within(steps: np.ndarray) -> np.ndarray:  # rliable's score distribution of -steps at -taus
+        return np.mean(-steps.reshape(-1, 1) > -taus, axis=0)
 
-    with _seeded(seed):
-        profiles, intervals = library.create_performance_profile({"x": -scores}, thresholds, custom_profile_func=score_distribution,
-                                                                 reps=REPS, confidence_interval_size=CONFIDENCE)  # fmt: skip
-    return (
-        [round(float(v), 4) for v in profiles["x"]],
-        [round(float(v), 4) for v in intervals["x"][0]],
-        [round(float(v), 4) for v in intervals["x"][1]],
-    )
+    profile = share_within(scores)
+    low, high = stratified_bootstrap([scores], share_within, seed)
+    return [round(float(v), 4) for v in profile], [round(float(v), 4) for v in low], [round(float(v), 4) for v in high]

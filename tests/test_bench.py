@@ -175,11 +175,40 @@ def test_the_performance_profile_is_rliables():
     scores = stats.steps_matrix([[100.0, 1000.0, None, 5000.0], [300.0, 200.0, 7000.0, None]])
     taus = np.geomspace(50, 10_000, 20)
     share, low, high = stats.performance_profile(scores, taus)
-    with stats._seeded(0):
+    state = np.random.get_state()  # rliable's own bootstrap draws from NumPy's global generator
+    np.random.seed(0)
+    try:
         profile, interval = library.create_performance_profile({"x": -scores}, -taus, reps=stats.REPS)
+    finally:
+        np.random.set_state(state)
     assert np.allclose(share, profile["x"]) and np.allclose(low, interval["x"][0]) and np.allclose(high, interval["x"][1])
 
 
 def test_mazes_with_different_seed_counts_have_no_stratified_matrix():
     assert stats.steps_matrix([[1.0, 2.0], [3.0]]) is None
     assert math.isclose(stats.steps_matrix([[1.0, 2.0], [3.0, None]])[1, 1], stats.NEVER)
+
+
+def test_the_stratified_bootstrap_draws_rliables_resamples_without_its_global_generator():
+    """The intervals equal rliable's (its bootstrap drawing from NumPy's global generator, seeded),
+    for one sample and for two independent ones, and NumPy's global generator is left alone."""
+    from rliable import library, metrics
+
+    rng = np.random.default_rng(3)
+    scores, other = rng.integers(100, 5000, (5, 2)).astype(float), rng.integers(100, 5000, (4, 2)).astype(float)
+    before = np.random.get_state()[1].copy()
+    mine = stats.iqm_interval(scores, seed=7)
+    faster = stats.probability_of_improvement(scores, other, seed=7)
+    assert np.array_equal(np.random.get_state()[1], before)
+    state = np.random.get_state()
+    try:
+        np.random.seed(7)
+        _, one = library.get_interval_estimates({"x": scores}, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=stats.REPS)
+        np.random.seed(7)
+        _, two = library.get_interval_estimates(
+            {"xy": [-scores, -other]}, lambda a, b: np.array([metrics.probability_of_improvement(a, b)]), reps=stats.REPS
+        )
+    finally:
+        np.random.set_state(state)
+    assert [mine.low, mine.high] == pytest.approx(list(one["x"][:, 0]), abs=1e-4)
+    assert [faster.low, faster.high] == pytest.approx(list(two["xy"][:, 0]), abs=1e-4)
