@@ -352,11 +352,13 @@ class HippocampalAgent:
         # in runs the map is revised only where the robot is well placed (a misplaced scan would
         # write walls where there are none); the ground it passes counts as searched once anchored
         if self.map is not None and pi is not None and pi.anchored:
+            mapping = not dry and self.total_steps % self.map.config.run_every == 0
+            well_placed = (mapping or s.bumped) and not dry and self._well_placed(s)  # (one fit a step)
             if dry:
                 self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)
-            elif self.total_steps % self.map.config.run_every == 0:
+            elif mapping:
                 mark = self.homing.search_mark if self.homing is not None else None
-                if self._well_placed(s):
+                if well_placed:
                     self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark)
                 else:
                     self.map.mark(pi.estimate, search_radius=mark)
@@ -365,7 +367,7 @@ class HippocampalAgent:
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
-            if s.bumped and (dry or (self.map.config.new_wall_evidence is not None and self._well_placed(s))):
+            if s.bumped and (dry or (self.map.config.new_wall_evidence is not None and well_placed)):
                 self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance, new=not dry)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)

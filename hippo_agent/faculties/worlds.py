@@ -9,15 +9,17 @@ world; what belongs to one world is kept with it:
 - the goal memories: the reward cells (the reward maps written by replay) and homing's
   remembered places.
 
-When the agent is put down, it asks which world its first scan fits (:meth:`Worlds.recognise`):
-the best fit, over the walkable places of each world's map, of the scan to that map
-(:meth:`ExplorationMap.scan_agreement`, every reading counted in full: a world one has not
+When the agent is put down, it takes a *glimpse*: its scans over its first ``glimpse_steps``
+steps, with where odometry says each was taken. It asks which world the glimpse fits
+(:meth:`Worlds.recognise`): the best, over the walkable places of each world's map, of the mean
+fit of the glimpse's scans to that map seen from there and from the places the robot then moved
+to (:meth:`ExplorationMap.scan_agreement`, every reading counted in full: a world one has not
 seen leaves rays through walls or boundaries on free ground at every place). Offered a dry run
 (:meth:`HippocampalAgent.dry_run`), a known world, this one or another, needs none: the agent
 enters it and skips the dry run; an unknown one is a new world, with an empty map and a new frame.
-At the start of a run without a dry run, the agent moves to another known world only when that
-fits the scan and the current one does not (a world changed in places still fits its own map
-better than any other).
+In a run without a dry run, the agent moves to another known world only when that fits the
+glimpse better than the current one by ``switch_margin`` (a world changed in places still fits
+its own map better than any other).
 """
 
 from __future__ import annotations
@@ -45,8 +47,8 @@ class WorldsConfig(Section):
     name: ClassVar[str] = "worlds"
 
     known_fit: float = param(0.75, ge=-1, le=1)
-    """A world is recognised when its map fits the first scan this well, at its best place (in
-    [-1, 1]; :meth:`ExplorationMap.scan_agreement`)."""
+    """A world is recognised when its map fits the glimpse this well, at its best place (the
+    mean fit of the glimpse's scans, in [-1, 1]; :meth:`ExplorationMap.scan_agreement`)."""
     glimpse_steps: int = param(10, ge=0)
     """The robot tells worlds apart by its scans of this many steps after it is put down (and
     the first): one scan may fit a corner of another world as well as its own."""
