@@ -334,8 +334,9 @@ class HippocampalAgent:
         return self.localisation.trusted if self.localisation is not None else self.pi.anchored
 
     def _evidence(self, s: Senses) -> tuple[Any, Any]:
-        """The map's evidence for the belief's correction, if localisation is on (else none)."""
-        if self.localisation is None:
+        """The map's evidence for the belief's correction, if localisation is on (else none);
+        none once anchored (:meth:`Localisation.evidence` gives none then)."""
+        if self.localisation is None or (self.pi is not None and self.pi.anchored):
             return None, None
         return self.localisation.evidence(s.ranges, s.heading, self.phase == "dry")
 

@@ -205,6 +205,26 @@ def test_the_fit_around_a_place_is_the_fit_at_it_and_at_the_offsets_from_it():
     assert around.shape == (10,) and np.count_nonzero(around) > 5
 
 
+def test_the_judged_fit_from_the_same_ray_march_equals_its_own_call():
+    """``judged``: the first place's fit with short readings and unknown ends left out, written by
+    the march of a fit with other weights, is the number a call of its own gives, bit for bit
+    (walls, short readings, rays through walls, rays ending on unknown ground and a new wall)."""
+    m = ExplorationMap(MapConfig(extent=8.0))
+    m.observe(np.zeros(2), 0.2, ring_scan(radius=4.0), max_range=10.0)
+    m.mark_bump(np.array([1.0, 0.0]), 0.0, 0.3, new=True)
+    rng = np.random.default_rng(3)
+    seen = set()
+    for _ in range(20):
+        here, offsets, ranges = rng.uniform(-2.0, 2.0, 2), rng.uniform(-3.0, 3.0, (8, 2)), rng.uniform(0.3, 9.0, 720)
+        judged = np.empty(1)
+        fits = m.scan_agreement(offsets, 0.4, ranges, 10.0, around=here, short_weight=0.25, judged=judged)
+        alone = m.scan_agreement(here[None, :], 0.4, ranges, 10.0, short_weight=0.0, judged_only=True)
+        assert judged[0] == alone[0]
+        np.testing.assert_array_equal(fits, m.scan_agreement(offsets, 0.4, ranges, 10.0, around=here, short_weight=0.25))
+        seen.add(float(judged[0]))
+    assert len(seen) > 10  # (fits that differ: the comparison means something)
+
+
 def test_grid_indices_by_multiplication_equal_those_by_division():
     """A power-of-two cell (the default 0.25 m) lets the ray marches multiply by 1 / cell instead of
     dividing: the scan's fit from many places is the same either way. Any other cell divides."""
@@ -240,6 +260,7 @@ def test_grid_indices_by_multiplication_equal_those_by_division():
             1.0,
             False,
             out,
+            np.empty(0),
         )
         fits.append(out)
     np.testing.assert_array_equal(fits[0], fits[1])

@@ -85,11 +85,15 @@ def scan_agreement(
     short_weight,
     judged_only,
     out,
+    judged,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
     ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
     wall written in a run (``new_walls``). ``judged_only``: a ray ending where the map knows
-    nothing is left out, and a place where no ray is judged fits 1."""
+    nothing is left out, and a place where no ray is judged fits 1. If ``judged`` has room, the
+    first place's fit with short readings and unknown ends left out (``short_weight`` 0,
+    ``judged_only``) goes there too, from the same ray march."""
+    also = judged.size > 0
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -103,6 +107,8 @@ def scan_agreement(
         y = (oy if k < 0 else oy + points[k, 1]) + extent
         total = 0.0
         counted = 0.0
+        counted_judged = 0.0  # (with also, for p == 0; its total is total less the short readings')
+        total_judged = 0.0
         for q in range(m):
             d = dist[q]
             far = not (d < hit_range and d < max_range * 0.999)
@@ -121,6 +127,8 @@ def scan_agreement(
             if through:
                 counted += 1.0
                 total -= 1.0
+                counted_judged += 1.0
+                total_judged -= 1.0
                 continue
             if far:  # a long ray's end is too far to place on the map; only its free stretch counts
                 continue
@@ -128,16 +136,21 @@ def scan_agreement(
             j = _grid_index(y + d * s, cell, inv_cell)
             if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
                 counted += 1.0
+                counted_judged += 1.0
                 continue
             if wall_beside(free, hits, i, j):
                 counted += 1.0
                 total += 1.0
+                counted_judged += 1.0
+                total_judged += 1.0
             elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
                 counted += short_weight
                 total -= short_weight
             elif not judged_only:
                 counted += 1.0
         out[p] = total / counted if counted else (1.0 if judged_only else 0.0)
+        if also and p == 0:
+            judged[0] = total_judged / counted_judged if counted_judged else 1.0
 
 
 @njit(cache=True, inline="always")
@@ -427,12 +440,17 @@ def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_stamp, walk, walk_id):
     of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
     ``squeeze``, free cells that are not walls will do)."""
     samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
+    last_i, last_j, last_near = -1, -1, False
     for s in range(1, samples + 1):
         x = gx + (tx - gx) * s / samples
         y = gy + (ty - gy) * s / samples
         near = squeeze or (x - gx) ** 2 + (y - gy) ** 2 <= 4.0  # a robot by a wall leaves it over free cells
-        if not _passable_once(free, hits, int(x), int(y), near, walk_stamp, walk, walk_id):
+        i, j = int(x), int(y)
+        if i == last_i and j == last_j and near == last_near:
+            continue  # (the sample before was in this cell: it passed)
+        if not _passable_once(free, hits, i, j, near, walk_stamp, walk, walk_id):
             return False
+        last_i, last_j, last_near = i, j, near
     return True
 
 

@@ -140,7 +140,8 @@ class Homing:
         if target is None or not trusted:
             return False
         here = self.pi.estimate
-        distance = self.distance()
+        (tx, ty), (x, y) = target.tolist(), here.tolist()  # (as floats: faster than on NumPy scalars)
+        distance = float(np.hypot(tx - x, ty - y))  # (as distance() measures it)
         if distance > c.radius:
             return False
         if distance < c.arrived and not self.searching:
@@ -151,7 +152,7 @@ class Homing:
                 self._failed()
                 return True
         elif distance <= c.approach_radius or self.map.in_sight(here, _toward(here, target, distance - c.approach_radius)):
-            heading = math.atan2(target[1] - here[1], target[0] - here[0])  # straight at it (a bump this near ends homing)
+            heading = math.atan2(ty - y, tx - x)  # straight at it (a bump this near ends homing)
         else:
             # the place itself may be by a wall, off the walkable map: path to walkable ground
             # within approach_radius of it, the ground from which the robot goes straight on

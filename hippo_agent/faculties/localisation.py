@@ -111,6 +111,11 @@ class Localisation:
         self.look_alike_fit = np.empty(0)  # running means of the scan's fit there
         self.own_fit = 1.0  # the same at the estimate, from its value when they were picked
         self._candidates: np.ndarray | None = None  # walkable map places, cached while the map does not change
+        # the estimate's fit as well_placed judges it, worked out by check's ray march, and what it was for (_key)
+        self._judged = np.empty(1)
+        self._judged_fit = 1.0
+        self._judged_key: tuple[Any, ...] | None = None
+        self._judged_ranges: np.ndarray | None = None
 
     @property
     def trusted(self) -> bool:
@@ -122,8 +127,16 @@ class Localisation:
         the map may be revised from this scan."""
         if not self.trusted:
             return False
-        fit = self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0, judged_only=True)
-        return bool(fit[0] >= self.config.revise_agreement)
+        fit = self._judged_fit if ranges is self._judged_ranges and self._judged_key == self._key(heading) else None
+        if fit is None:
+            fit = float(
+                self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0, judged_only=True)[0]
+            )
+        return fit >= self.config.revise_agreement
+
+    def _key(self, heading: float) -> tuple[Any, ...]:
+        """What a fit at the estimate depends on, besides the scan's ranges: heading, estimate, the map's state."""
+        return (heading, *self.pi.estimate.tolist(), self.map.revision)
 
     def reset(self) -> None:
         """A run begins: no doubt yet."""
@@ -191,7 +204,10 @@ class Localisation:
         if not self.pi.anchored or step % every:
             return
         c = self.config
-        fits = self._fit(self.look_alikes, heading, ranges, around=self.pi.estimate)
+        fits = self.map.scan_agreement(
+            self.look_alikes, heading, ranges, self.max_range, self.pi.estimate, c.short_weight, judged=self._judged
+        )
+        self._judged_fit, self._judged_key, self._judged_ranges = float(self._judged[0]), self._key(heading), ranges
         rate = min(1.0, c.fit_rate * every)
         own = float(fits[0])
         self.fit = (1.0 - rate) * self.fit + rate * own

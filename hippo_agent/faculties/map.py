@@ -244,6 +244,7 @@ class ExplorationMap:
         around: np.ndarray | None = None,
         short_weight: float = 1.0,
         judged_only: bool = False,
+        judged: np.ndarray | None = None,
     ) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
         map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
@@ -267,13 +268,17 @@ class ExplorationMap:
         wall written in a run (:attr:`new_walls`: a new obstacle, seen or bumped into) does not
         count against a place: such walls come and go (the blocks of one layout gone in the next).
         ``judged_only``: rays ending where the map knows nothing are left out, and a place where no
-        ray is judged fits 1 (nothing the map holds says it is wrong)."""
+        ray is judged fits 1 (nothing the map holds says it is wrong).
+
+        ``judged`` (a one-element array): the first place's fit with ``short_weight`` 0 and
+        ``judged_only`` is written there too, from the same ray march."""
         x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         scan_agreement(
             self.free, self.hits, self.new_walls, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
             self.cell, self._inv_cell, self.hit_range, float(short_weight), bool(judged_only), out,
+            _NO_JUDGED if judged is None else judged,
         )  # fmt: skip
         return out
 
@@ -467,3 +472,4 @@ class ExplorationMap:
 
 
 _GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls")
+_NO_JUDGED = np.empty(0)  # scan_agreement's judged, not asked for

@@ -252,7 +252,9 @@ class PathIntegrator:
     def move(self, step: np.ndarray) -> None:
         """Path integration: shift every sample by the allocentric ``step`` (m), plus noise."""
         self.last_step = np.asarray(step, dtype=np.float64)
-        spread = self.motion_noise * math.hypot(*self.last_step.tolist()) + self.min_motion_noise
+        spread = self.min_motion_noise
+        if self.motion_noise:  # (0 * length adds nothing)
+            spread += self.motion_noise * math.hypot(*self.last_step.tolist())
         if spread > 0:
             self.rng.standard_normal(out=self._noise)
         _kernels.shift(self.particles, self.last_step, spread, self._noise)
