@@ -215,24 +215,27 @@ def _free_not_wall(free, hits, i, j):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
-    """:func:`_walkable`, remembered in ``walk`` under ``walk_id`` (``walk_stamp``): one id per
-    state of the grids, so that searches on unchanged grids reuse what earlier ones worked out."""
+def _walkable_once(free, hits, i, j, walk_cache, walk_id):  # pragma: no cover - compiled
+    """:func:`_walkable`, remembered in ``walk_cache`` as ``2 walk_id + walkable``: one id per
+    state of the grids, so that searches on unchanged grids reuse what earlier ones worked out.
+    (One array for the id and the answer: a search reads one entry per cell, not two.)"""
     n = free.shape[0]
     if i < 0 or j < 0 or i >= n or j >= n:
         return False
     k = i * n + j
-    if walk_stamp[k] != walk_id:
-        walk_stamp[k] = walk_id
-        walk[k] = _walkable(free, hits, i, j)
-    return walk[k]
+    cached = walk_cache[k]
+    if (cached >> 1) == walk_id:
+        return (cached & 1) == 1
+    walkable = _walkable(free, hits, i, j)
+    walk_cache[k] = 2 * walk_id + walkable
+    return walkable
 
 
 @njit(cache=True, inline="always")
-def _passable_once(free, hits, i, j, near_start, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def _passable_once(free, hits, i, j, near_start, walk_cache, walk_id):  # pragma: no cover - compiled
     """Walkable (:func:`_walkable_once`), or (near the start: within two steps of it, or ``squeeze``)
     at least free and not a wall."""
-    return _walkable_once(free, hits, i, j, walk_stamp, walk, walk_id) or (near_start and _free_not_wall(free, hits, i, j))
+    return _walkable_once(free, hits, i, j, walk_cache, walk_id) or (near_start and _free_not_wall(free, hits, i, j))
 
 
 # the 8 neighbours of a cell, in the order the searches try them
@@ -240,31 +243,29 @@ _NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1,
 
 
 @njit(cache=True, inline="always")
-def _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):  # pragma: no cover - compiled
     """Whether a search may step from (ci, cj) by (di, dj): onto a passable cell
     (:func:`_passable_once`), and diagonally only between two passable cells (no corner cutting)."""
-    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_stamp, walk, walk_id):
+    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_cache, walk_id):
         return False
     return (
         di == 0
         or dj == 0
         or (
-            _passable_once(free, hits, ci + di, cj, near, walk_stamp, walk, walk_id)
-            and _passable_once(free, hits, ci, cj + dj, near, walk_stamp, walk, walk_id)
+            _passable_once(free, hits, ci + di, cj, near, walk_cache, walk_id)
+            and _passable_once(free, hits, ci, cj + dj, near, walk_cache, walk_id)
         )
     )
 
 
 @njit(cache=True)
-def search(
-    free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_stamp, walk, walk_id
-):  # pragma: no cover - compiled
+def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
     """Breadth-first search over walkable cells (8-connected, no corner cutting) from (i0, j0) to
     ``target`` (a flat index); if ``target == -1``, to the nearest walkable cell that ``known``
     does not hold; if ``target == -2``, everywhere reachable. ``squeeze``: over every free cell
     that is not a wall. Returns the flat index of the cell found (its path back to the start
     through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
-    reached (``queue[:reached]``, in the order reached). ``walk_stamp``, ``walk`` and ``walk_id``:
+    reached (``queue[:reached]``, in the order reached). ``walk_cache`` and ``walk_id``:
     each cell's walkability, worked out once per state of the grids (:func:`_walkable_once`)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
@@ -286,12 +287,12 @@ def search(
                 if cur == target:
                     found = cur
                     break
-            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id):
+            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_cache, walk_id):
                 found = cur
                 break
         for di, dj in _NEIGHBOURS:
             nxt = (ci + di) * n + cj + dj
-            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
+            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
@@ -302,7 +303,7 @@ def search(
 
 @njit(cache=True)
 def search_disk(
-    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_stamp, walk, walk_id
+    free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_cache, walk_id
 ):  # pragma: no cover - compiled
     """A shortest path (in steps, over the same cells and moves as :func:`search`) from (i0, j0)
     to the nearest walkable cell that ``known`` does not hold and whose centre lies within ``dr``
@@ -315,7 +316,7 @@ def search_disk(
     the cell found (its path back through ``parent``), or -1 if there is none (or the robot is
     there). ``stamp`` marks the cells reached, ``closed`` those done, ``steps`` their path lengths;
     ``heap`` holds the queue's priorities (:func:`_priority`) and ``heap_cells`` their cells;
-    ``walk_stamp`` / ``walk`` / ``walk_id`` as in :func:`search`."""
+    ``walk_cache`` / ``walk_id`` as in :func:`search`."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1
@@ -335,7 +336,7 @@ def search_disk(
             cur != start
             and not known[ci, cj]
             and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
-            and _walkable_once(free, hits, ci, cj, walk_stamp, walk, walk_id)
+            and _walkable_once(free, hits, ci, cj, walk_cache, walk_id)
         ):
             return cur
         near = squeeze or cur == start or parent[cur] == start
@@ -344,7 +345,7 @@ def search_disk(
             nxt = (ci + di) * n + cj + dj
             if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
                 continue
-            if not _can_step(free, hits, ci, cj, di, dj, near, walk_stamp, walk, walk_id):
+            if not _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
@@ -410,32 +411,32 @@ def _heap_pop(heap, cells, size):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
     """The index of the farthest cell along ``path`` (at most ``most`` cells on, at least 1) that a
     straight line from ``(gx, gy)`` (grid units) reaches over passable cells only: the planner heads
-    straight for it, not along the search's 8-connected zig-zags. ``walk_stamp`` / ``walk`` /
-    ``walk_id`` as in :func:`search`."""
+    straight for it, not along the search's 8-connected zig-zags. ``walk_cache`` / ``walk_id`` as
+    in :func:`search`."""
     n = free.shape[0]
     best = 1
     for k in range(2, min(most, path.size - 1) + 1):
-        if not _line_clear(free, hits, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_stamp, walk, walk_id):
+        if not _line_clear(free, hits, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_cache, walk_id):
             break
         best = k
     return best
 
 
 @njit(cache=True)
-def lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_cache, walk_id):  # pragma: no cover - compiled
     """:func:`_line_clear` for the line from ``(gx, gy)`` to ``(tx, ty)`` shifted by ``k`` times
     ``(nx, ny)``, for every ``k`` from ``-margin`` to ``margin``."""
     for k in range(-margin, margin + 1):
-        if not _line_clear(free, hits, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_stamp, walk, walk_id):
+        if not _line_clear(free, hits, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_cache, walk_id):
             return False
     return True
 
 
 @njit(cache=True)
-def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
     """Whether the straight line from ``(gx, gy)`` to ``(tx, ty)`` (grid units), sampled every third
     of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
     ``squeeze``, free cells that are not walls will do)."""
@@ -448,14 +449,14 @@ def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_stamp, walk, walk_id):
         i, j = int(x), int(y)
         if i == last_i and j == last_j and near == last_near:
             continue  # (the sample before was in this cell: it passed)
-        if not _passable_once(free, hits, i, j, near, walk_stamp, walk, walk_id):
+        if not _passable_once(free, hits, i, j, near, walk_cache, walk_id):
             return False
         last_i, last_j, last_near = i, j, near
     return True
 
 
 @njit(cache=True)
-def waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch, walk_stamp, walk, walk_id):  # pragma: no cover - compiled
+def waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch, walk_cache, walk_id):  # pragma: no cover - compiled
     """The cell the planner heads for (:func:`_farthest_in_sight`) along the path from the search's
     start to ``found`` (written into ``scratch``)."""
     length = 0
@@ -467,7 +468,7 @@ def waypoint(free, hits, parent, found, gx, gy, most, squeeze, scratch, walk_sta
     for k in range(length, -1, -1):
         scratch[k] = cur
         cur = parent[cur]
-    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze, walk_stamp, walk, walk_id)]
+    return scratch[_farthest_in_sight(free, hits, scratch[: length + 1], gx, gy, most, squeeze, walk_cache, walk_id)]
 
 
 @njit(cache=True)

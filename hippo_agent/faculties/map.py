@@ -138,8 +138,7 @@ class ExplorationMap:
         self._queue = np.zeros(n * n, dtype=np.int32)
         self._depth = np.zeros(n * n, dtype=np.int32)
         # and whether a cell is walkable, worked out once per state of the grids (_walk_id)
-        self._walk_stamp = np.zeros(n * n, dtype=np.int32)
-        self._walk = np.zeros(n * n, dtype=np.bool_)
+        self._walk_cache = np.zeros(n * n, dtype=np.int32)
         self._walk_ids, self._walk_revision = 0, -1
         # the search into a disk (A*): path lengths so far, cells done, and its priority queue
         self._steps = np.zeros(n * n, dtype=np.int32)
@@ -318,7 +317,7 @@ class ExplorationMap:
         if length == 0.0:
             return True
         nx, ny = (gy - ty) / length, (tx - gx) / length  # the unit normal, in cells
-        return bool(lines_clear(self.free, self.hits, gx, gy, tx, ty, nx, ny, margin, self._walk_stamp, self._walk, self._walk_id()))
+        return bool(lines_clear(self.free, self.hits, gx, gy, tx, ty, nx, ny, margin, self._walk_cache, self._walk_id()))
 
     def heading_to(self, position: np.ndarray, target: int) -> float | None:
         """The heading (rad) along the walkable path to the flat cell index ``target``; ``None``
@@ -333,7 +332,7 @@ class ExplorationMap:
         self._last_plan = None  # (this search overwrites the last one's paths)
         _, reached = search(
             self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False,
-            self._walk_stamp, self._walk, self._walk_id(),
+            self._walk_cache, self._walk_id(),
         )  # fmt: skip
         return known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
@@ -370,14 +369,14 @@ class ExplorationMap:
         if disk is None:
             found, _ = search(
                 self.free, self.hits, known, i, j, int(target), self._stamp, self._parent, self._queue, self._search_id[0], squeeze,
-                self._walk_stamp, self._walk, self._walk_id(),
+                self._walk_cache, self._walk_id(),
             )  # fmt: skip
         else:  # the disk in grid units, as mark_disk draws it
             cx, cy = float(disk[0][0]), float(disk[0][1])
             dx, dy, dr = (cx + self.extent) / self.cell, (cy + self.extent) / self.cell, float(disk[1]) / self.cell
             found = search_disk(
                 self.free, self.hits, known, i, j, float(dx), float(dy), float(dr), squeeze, self._search_id[0],
-                self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_stamp, self._walk,
+                self._stamp, self._closed, self._parent, self._steps, self._heap, self._heap_cells, self._walk_cache,
                 self._walk_id(),
             )  # fmt: skip
         self._last_plan, self._last_found = plan, int(found)
@@ -400,7 +399,7 @@ class ExplorationMap:
         wx, wy = self.centre(
             waypoint(
                 self.free, self.hits, self._parent, found, gx, gy, self.lookahead_cells, squeeze, self._depth,
-                self._walk_stamp, self._walk, self._walk_id(),
+                self._walk_cache, self._walk_id(),
             )
         )  # fmt: skip
         return math.atan2(wy - y, wx - x)
@@ -411,6 +410,9 @@ class ExplorationMap:
         if self._walk_revision != self.revision:
             self._walk_revision = self.revision
             self._walk_ids += 1
+            if self._walk_ids >= 2**30:  # (the cache holds 2 id + 1 in an int32: start the ids afresh)
+                self._walk_cache[:] = 0
+                self._walk_ids = 1
         return self._walk_ids
 
     # ------------------------------------------------------------------ measures
