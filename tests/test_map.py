@@ -439,3 +439,11 @@ def test_the_beam_models_short_readings_weigh_short_weight():
     scan[: len(scan) // 2] = 1.5  # half the scan ends short, on free ground
     full, half, none = (m.scan_agreement(np.zeros((1, 2)), 0.0, scan, 10.0, short_weight=w)[0] for w in (1.0, 0.5, 0.0))
     assert full == pytest.approx(0.0, abs=0.05) and none == pytest.approx(1.0) and full < half < none
+
+
+def test_flat_indices_and_centres_are_flat_index_and_centre_for_many():
+    m = ExplorationMap(MapConfig(extent=5.0))
+    points = np.random.default_rng(4).uniform(-4.99, 4.99, (500, 2))
+    flat = m.flat_indices(points)
+    assert flat.tolist() == [m.flat_index(*p) for p in points]
+    assert m.centres(flat).tolist() == [list(m.centre(int(f))) for f in flat]

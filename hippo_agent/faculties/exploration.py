@@ -193,20 +193,22 @@ class Exploration:
                 target = self._transit_destination(np.asarray(start))
                 if target < 0:
                     break
-                path = np.array([self.map.centre(cell) for cell in self.map.path(np.asarray(start), target)])
+                path = self.map.centres(self.map.path(np.asarray(start), target))
                 lengths = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))))
                 along = np.arange(0.0, lengths[-1], c.imagined_step)
                 points = np.column_stack([np.interp(along, lengths, path[:, 0]), np.interp(along, lengths, path[:, 1])])
                 place.trace = np.zeros(place.n)
                 place.hd_trace = np.zeros(place.n_hd)
-                for k in range(1, points.shape[0]):
-                    code = self.codes.get(self.map.flat_index(*points[k]))
+                cells, xy = self.map.flat_indices(points).tolist(), points.tolist()
+                for k in range(1, len(cells)):
+                    code = self.codes.get(cells[k])
                     if code is None:
                         continue
-                    dx, dy = points[k] - points[k - 1]
+                    dx, dy = xy[k][0] - xy[k - 1][0], xy[k][1] - xy[k - 1][1]
                     place.v = np.zeros(place.n)
                     place.v[code[0]] = code[1]
-                    place.update_hd_trace(hd.rates_for(np.array([dx, dy]) / math.hypot(dx, dy)))
+                    length = math.hypot(dx, dy)
+                    place.update_hd_trace(hd.rates_for(np.array([dx / length, dy / length])))
                     place.learn_pp()  # eq. 7
                     place.update_trace()  # eq. 6
                     budget -= 1

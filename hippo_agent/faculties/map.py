@@ -426,6 +426,16 @@ class ExplorationMap:
         i, j = self.index(x, y)
         return i * self.n + j
 
+    def flat_indices(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`flat_index` of each of ``points`` (an (m, 2) array), the same numbers."""
+        ij = np.floor((np.asarray(points, dtype=np.float64) + self.extent) / self.cell).astype(np.int64)
+        return ij[:, 0] * self.n + ij[:, 1]
+
+    def centres(self, flat: np.ndarray) -> np.ndarray:
+        """:meth:`centre` of each flat index in ``flat``: an (m, 2) array, the same numbers."""
+        i, j = np.divmod(np.asarray(flat, dtype=np.int64), self.n)
+        return np.column_stack(((i + 0.5) * self.cell - self.extent, (j + 0.5) * self.cell - self.extent))
+
     def centre(self, flat: int) -> tuple[float, float]:
         """The frame coordinates of a cell's centre, from its flat index."""
         i, j = divmod(int(flat), self.n)
