@@ -8,9 +8,13 @@ these is timed once, in an order that rotates from repeat to repeat so that none
 
 - the default model on its walk, exploiting (it knows the goal: it preplays or homes at every step), learning on;
 - the paper's model on its walk, the same way;
-- RatInABox (the ``peers`` extra): its agent moving, as many place cells and its 400 BVCs updating, no learning;
+- RatInABox (the ``peers`` extra): its agent moving, as many place cells and its 400 BVCs updating,
+  no learning, with NumPy's BLAS held to one thread (``threadpoolctl``), so that it runs on one
+  core as the models do: the ratio the target reads;
+- RatInABox again with BLAS's own number of threads (all the cores), for the record;
 - the default model's dry run (directed exploration) from scratch, a fresh agent each repeat,
-  the environment's own time taken out.
+  the environment's own time taken out (the rest at its end, imagined transits with no step
+  taken, included; its time is also recorded apart).
 
 Each repeat gives the ratios default / RatInABox and default / paper (steps/s over steps/s) and
 the time of a dry-run step over that of an exploiting step; the record holds every repeat's
@@ -94,7 +98,7 @@ class Args:
 
 
 #: The programs timed side by side, in the first repeat's order.
-PROGRAMS = ("default", "paper", "ratinabox", "dry_run")
+PROGRAMS = ("default", "paper", "ratinabox", "ratinabox_blas_threads", "dry_run")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -114,6 +118,9 @@ def main(argv: list[str] | None = None) -> None:
             summary = row["ratios"].get(key)
             measured = None if not summary else summary["median"]
             print(f"    {what}: {spread(summary)}; target {target(name).text(unit='x')}: {verdict(target(name).met(measured))}")
+        for key, what in INFORMATION.items():
+            if key in row["ratios"]:
+                print(f"    {what}: {spread(row['ratios'][key])}")
     print(f"wrote {out}")
 
 
@@ -122,6 +129,13 @@ RATIOS = {
     "agent_vs_ratinabox": ("default_x_ratinabox", "default / RatInABox, steps/s"),
     "default_vs_paper": ("default_x_paper", "default / paper's model, steps/s"),
     "dry_run_step": ("dry_run_step_x_exploiting_step", "a dry-run step / an exploiting step, time"),
+}
+
+
+#: Ratios recorded beside the targets' (key in a row -> what it is).
+INFORMATION = {
+    "default_x_ratinabox_blas_threads": "default / RatInABox with BLAS on all cores, steps/s",
+    "dry_run_step_without_rest_x_exploiting_step": "a dry-run step with the rest at its end taken out / an exploiting step, time",
 }
 
 
@@ -134,7 +148,7 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
         env, agent, _, _ = trained(model, n_place, args.dry_run_steps, args.n_rays, args.seed)
         walks[model] = (agent, recorded_walk(env, args.steps, args.seed))
     peer = RatInABox(n_place, walks["default"][0].bvc.n) if args.peer_steps > 0 else None
-    programs = [p for p in PROGRAMS if p != "ratinabox" or peer is not None]
+    programs = [p for p in PROGRAMS if not p.startswith("ratinabox") or peer is not None]
     repeats = []
     with contextlib.ExitStack() as stack:
         for agent, recorded in walks.values():
@@ -151,12 +165,20 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
                     figures[program] = round(len(recorded) / walk(agent, recorded)[0], 1)
                     shares.setdefault(program, []).append(exploit_share(agent.episode_stats))
                 elif program == "ratinabox":
-                    figures["ratinabox"] = round(args.peer_steps / peer.seconds(args.peer_steps), 2)
+                    with one_blas_thread():
+                        figures["ratinabox"] = round(args.peer_steps / peer.seconds(args.peer_steps), 2)
+                elif program == "ratinabox_blas_threads":
+                    figures[program] = round(args.peer_steps / peer.seconds(args.peer_steps), 2)
                 else:
                     env, fresh = new_agent("default", n_place, args.dry_run_steps, args.n_rays, args.seed)
-                    steps, seconds = timed_dry_run(env, fresh)
+                    steps, seconds, rest = timed_dry_run(env, fresh)
                     env.close()
-                    figures |= {"dry_run": round(steps / seconds, 1), "dry_run_steps": steps}
+                    figures |= {
+                        "dry_run": round(steps / seconds, 1),
+                        "dry_run_steps": steps,
+                        "dry_run_rest_seconds": round(rest, 4),
+                        "dry_run_without_rest": round(steps / (seconds - rest), 1),
+                    }
             repeats.append(figures)
             print(
                 f"  {n_place:,} place cells, repeat {r + 1}/{args.repeats}: " + ", ".join(f"{p} {figures[p]:,} steps/s" for p in order),
@@ -165,9 +187,11 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
     per_repeat = {
         "default_x_paper": [f["default"] / f["paper"] for f in repeats],
         "dry_run_step_x_exploiting_step": [f["default"] / f["dry_run"] for f in repeats],
+        "dry_run_step_without_rest_x_exploiting_step": [f["default"] / f["dry_run_without_rest"] for f in repeats],
     }
     if peer is not None:
         per_repeat["default_x_ratinabox"] = [f["default"] / f["ratinabox"] for f in repeats]
+        per_repeat["default_x_ratinabox_blas_threads"] = [f["default"] / f["ratinabox_blas_threads"] for f in repeats]
     return {
         "n_place": n_place,
         "n_bvc": walks["default"][0].bvc.n,
@@ -175,11 +199,21 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
         "ratinabox_timed": peer is not None,
         "exploit_share": {model: round(min(s), 3) for model, s in shares.items()},
         "repeats": repeats,
-        "steps_per_second": {p: median_and_quartiles([f[p] for f in repeats], 1) for p in programs},
+        "steps_per_second": {p: median_and_quartiles([f[p] for f in repeats], 1) for p in [*programs, "dry_run_without_rest"]},
         "ratios": {
             key: {"per_repeat": [round(v, 4) for v in values], **median_and_quartiles(values)} for key, values in per_repeat.items()
         },
     }
+
+
+def one_blas_thread() -> Any:
+    """A context in which NumPy's BLAS runs one thread (RatInABox's products then use one core, as
+    the models do)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError as err:
+        raise ImportError(f"threadpoolctl is not installed ({err}): pip install -e '.[peers]'") from err
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _header(args: Args, load_at_start: list[float] | None) -> dict[str, Any]:

@@ -103,13 +103,20 @@ def new_agent(model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: i
     return env, agent
 
 
-def timed_dry_run(env: TimedEnv, agent: HippocampalAgent) -> tuple[int, float]:
-    """The agent's dry run: its steps, and the agent's own seconds (the environment's taken out)."""
+def timed_dry_run(env: TimedEnv, agent: HippocampalAgent) -> tuple[int, float, float]:
+    """The agent's dry run: its steps, the agent's own seconds (the environment's taken out), and
+    of those the seconds of the rest at its end (imagined transits, no step taken; 0 without the
+    faculty ``exploration``)."""
     steps, env_seconds = env.steps, env.seconds
+    timer = SplitTimer()
+    timer.wrap(agent.exploration, "rest", "rest")  # (absent without exploration: then 0)
     began = time.perf_counter()
-    agent.dry_run(env)
-    total = time.perf_counter() - began
-    return env.steps - steps, total - (env.seconds - env_seconds)
+    try:
+        agent.dry_run(env)
+    finally:
+        total = time.perf_counter() - began
+        timer.unwrap()
+    return env.steps - steps, total - (env.seconds - env_seconds), timer.seconds.get("rest", 0.0)
 
 
 def trained(model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int) -> tuple[TimedEnv, HippocampalAgent, dict[str, Any], Any]:
@@ -117,7 +124,7 @@ def trained(model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int
     at the arena's centre (which replay), and its environment; the dry run's figures and the last run."""
     env, agent = new_agent(model, n_place, dry_run_steps, n_rays, seed)
     began = time.perf_counter()
-    steps, agent_seconds = timed_dry_run(env, agent)
+    steps, agent_seconds, _ = timed_dry_run(env, agent)
     dry = {"steps": steps, "seconds": time.perf_counter() - began, "agent_seconds": agent_seconds}
     agent.start_trial(0)
     for goal_runs in range(1, MAX_GOAL_RUNS + 1):  # explore until the goal, which triggers the replay

@@ -207,11 +207,23 @@ def agent_throughput() -> str:
                 f"{shown}; target {goal.text(unit='x')}: {verdict(goal.met(measured))}" if goal["place_cells"] == n_place else shown
             )
         rows.append(cells)
-        s = row["steps_per_second"]
+        s, ratios = row["steps_per_second"], row["ratios"]
         speeds.append(
             f"{num(n_place)} place cells: default {num(s['default']['median'])}, paper's model {num(s['paper']['median'])}"
-            + (f", RatInABox {num(s['ratinabox']['median'])}" if "ratinabox" in s else "")
+            + (f", RatInABox {num(s['ratinabox']['median'])} (BLAS on one thread)" if "ratinabox" in s else "")
+            + (
+                f" and {num(s['ratinabox_blas_threads']['median'])} with BLAS on all cores (default / RatInABox "
+                f"{spread(ratios['default_x_ratinabox_blas_threads'])})"
+                if "ratinabox_blas_threads" in s
+                else ""
+            )
             + f"; the default model's dry run {num(s['dry_run']['median'])} (its own time, the environment's taken out)"
+            + (
+                f", {num(s['dry_run_without_rest']['median'])} with the rest at its end taken out (a step then "
+                f"{spread(ratios['dry_run_step_without_rest_x_exploiting_step'])} an exploiting step's time)"
+                if "dry_run_without_rest" in s
+                else ""
+            )
         )
     if not rows:
         return not_measured_yet(
