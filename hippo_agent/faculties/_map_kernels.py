@@ -107,7 +107,7 @@ def scan_agreement(
         y = (oy if k < 0 else oy + points[k, 1]) + extent
         total = 0.0
         counted = 0.0
-        counted_judged = 0.0  # (with also, for p == 0; its total is total less the short readings')
+        counted_judged = 0.0  # the fit for judged (short readings and unknown ends left out)
         total_judged = 0.0
         for q in range(m):
             d = dist[q]

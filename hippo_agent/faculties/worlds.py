@@ -49,9 +49,11 @@ class WorldsConfig(Section):
     known_fit: float = param(0.75, ge=-1, le=1)
     """A world is recognised when its map fits the glimpse this well, at its best place (the
     mean fit of the glimpse's scans, in [-1, 1]; :meth:`ExplorationMap.scan_agreement`)."""
-    glimpse_steps: int = param(10, ge=0)
+    glimpse_steps: int = param(5, ge=0)
     """The robot tells worlds apart by its scans of this many steps after it is put down (and
-    the first): one scan may fit a corner of another world as well as its own."""
+    the first): one scan may fit a corner of another world as well as its own. In a run, these
+    steps are taken with the memories of the world it was last in, which may be the wrong one:
+    a longer glimpse is a longer detour."""
     switch_margin: float = param(0.2, ge=0)
     """At a run's start, the agent moves to another known world only when that fits the scan
     better than the current one by this much."""
