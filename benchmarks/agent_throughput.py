@@ -34,6 +34,8 @@ end. It writes the table and a figure (``.png`` beside the JSON). RatInABox is n
     python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
     python -m benchmarks.agent_throughput --steps 300 --repeats 2 --dry-run-steps 300 --peer-steps 20 \\
         --out /tmp/quick.json                          # a quick look
+    python -m benchmarks.agent_throughput --config '{"localisation.check_every": 4, "map.run_every": 4}' \
+        --out /tmp/lazier.json                         # what a setting of the default model costs or saves
     python -m benchmarks.agent_throughput --scaling  # benchmarks/results/agent_scaling_default.json and .png
     python -m benchmarks.agent_throughput --scaling --scaling-cells 250 500 --steps 200 --scaling-repeats 1 \\
         --dry-run-steps 300 --out /tmp/scaling.json    # a quick look (the targets' sizes are added)
@@ -52,7 +54,18 @@ import gymnasium as gym
 import numpy as np
 
 import hippo_env
-from benchmarks.agent_timing import RatInABox, heading_for_the_goal, measure, new_agent, recorded_walk, timed_dry_run, trained, walk
+from benchmarks.agent_timing import (
+    RatInABox,
+    heading_for_the_goal,
+    make_config,
+    measure,
+    new_agent,
+    overrides,
+    recorded_walk,
+    timed_dry_run,
+    trained,
+    walk,
+)
 from benchmarks.common import (
     command_line,
     cost_growth,
@@ -92,6 +105,9 @@ class Args:
     """place-cell counts of the scaling table (the targets' sizes are added)"""
     scaling_repeats: int = 3
     """with --scaling: timed repeats of each walk and of the replay; the best is kept (other load only slows a run down)"""
+    config: str = ""
+    """AgentConfig fields by dotted name as JSON for the default model (the paper's model stays the
+    paper's), e.g. '{"localisation.check_every": 4}': what a setting costs or saves"""
     out: str = ""
     """where the JSON goes (relative to the repository root unless absolute); '' = benchmarks/results/
     agent_throughput.json, or with --scaling benchmarks/results/agent_scaling_<model>.json (the figure beside it)"""
@@ -103,6 +119,10 @@ PROGRAMS = ("default", "paper", "ratinabox", "ratinabox_blas_threads", "dry_run"
 
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
+    try:
+        make_config("default", 1000, args.dry_run_steps, overrides(args))  # a bad --config fails now, with its reason
+    except (ValueError, TypeError) as err:
+        raise SystemExit(f"--config: {err}") from err
     if args.scaling:
         scaling(args)
         return
@@ -145,7 +165,7 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
     repeat, and their medians and quartiles."""
     walks, shares = {}, {}
     for model in ("default", "paper"):
-        env, agent, _, _ = trained(model, n_place, args.dry_run_steps, args.n_rays, args.seed)
+        env, agent, _, _ = trained(model, n_place, args.dry_run_steps, args.n_rays, args.seed, overrides(args))
         walks[model] = (agent, recorded_walk(env, args.steps, args.seed))
     peer = RatInABox(n_place, walks["default"][0].bvc.n) if args.peer_steps > 0 else None
     programs = [p for p in PROGRAMS if not p.startswith("ratinabox") or peer is not None]
@@ -170,7 +190,7 @@ def side_by_side(n_place: int, args: Args) -> dict[str, Any]:
                 elif program == "ratinabox_blas_threads":
                     figures[program] = round(args.peer_steps / peer.seconds(args.peer_steps), 2)
                 else:
-                    env, fresh = new_agent("default", n_place, args.dry_run_steps, args.n_rays, args.seed)
+                    env, fresh = new_agent("default", n_place, args.dry_run_steps, args.n_rays, args.seed, overrides(args))
                     steps, seconds, rest = timed_dry_run(env, fresh)
                     env.close()
                     figures |= {

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import json
 import time
 from collections.abc import Iterator
 from typing import Any, SupportsFloat
@@ -60,15 +61,17 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
 REPLAY_TERMS: dict[str, tuple[tuple[str, str], ...]] = {"replay_weights": (("place", "replay_links"),)}
 
 
-def make_config(model: str, n_place: int, dry_run_steps: int) -> AgentConfig:
-    """The one place this benchmark builds an :class:`AgentConfig`: ``model`` with ``n_place`` cells."""
+def make_config(model: str, n_place: int, dry_run_steps: int, overrides: dict[str, Any] | None = None) -> AgentConfig:
+    """The one place this benchmark builds an :class:`AgentConfig`: ``model`` with ``n_place`` cells
+    and, for the default model, ``overrides`` (AgentConfig fields by dotted name; the paper's model
+    stays the paper's, the reference it is timed against)."""
     if model not in MODELS:
         raise ValueError(f"model {model!r} is unknown; allowed: {', '.join(MODELS)}")
     sizes = {"model.n_place": n_place, "model.dry_run_steps": dry_run_steps}
     if model == "paper":
         return AgentConfig.paper().with_values(sizes)
     # the cost of n_place cells: no recruitment beyond them
-    return AgentConfig().with_values({**sizes, "exploration.place_cells_per_m2": 0.0})
+    return AgentConfig().with_values({**sizes, "exploration.place_cells_per_m2": 0.0, **(overrides or {})})
 
 
 class TimedEnv(gym.Wrapper):
@@ -95,11 +98,15 @@ class TimedEnv(gym.Wrapper):
             self.steps += 1
 
 
-def new_agent(model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int) -> tuple[TimedEnv, HippocampalAgent]:
-    """A fresh ``model`` agent and its environment (the open arena, reset with ``seed``), before its dry run."""
+def new_agent(
+    model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int, overrides: dict[str, Any] | None = None
+) -> tuple[TimedEnv, HippocampalAgent]:
+    """A fresh ``model`` agent (:func:`make_config`) and its environment (the open arena, reset with
+    ``seed``), before its dry run."""
     env = TimedEnv(gym.make("HippoMaze-v0", maze="open", n_rays=n_rays, odometry=True))
     env.reset(seed=seed)
-    agent = HippocampalAgent(env.observation_space, env.action_space, make_config(model, n_place, dry_run_steps), seed=seed)
+    config = make_config(model, n_place, dry_run_steps, overrides)
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=seed)
     return env, agent
 
 
@@ -119,10 +126,13 @@ def timed_dry_run(env: TimedEnv, agent: HippocampalAgent) -> tuple[int, float, f
     return env.steps - steps, total - (env.seconds - env_seconds), timer.seconds.get("rest", 0.0)
 
 
-def trained(model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int) -> tuple[TimedEnv, HippocampalAgent, dict[str, Any], Any]:
-    """The ``model`` agent with ``n_place`` cells after its dry run and the runs that find the goal
-    at the arena's centre (which replay), and its environment; the dry run's figures and the last run."""
-    env, agent = new_agent(model, n_place, dry_run_steps, n_rays, seed)
+def trained(
+    model: str, n_place: int, dry_run_steps: int, n_rays: int, seed: int, overrides: dict[str, Any] | None = None
+) -> tuple[TimedEnv, HippocampalAgent, dict[str, Any], Any]:
+    """The ``model`` agent with ``n_place`` cells (:func:`make_config`) after its dry run and the
+    runs that find the goal at the arena's centre (which replay), and its environment; the dry
+    run's figures and the last run."""
+    env, agent = new_agent(model, n_place, dry_run_steps, n_rays, seed, overrides)
     began = time.perf_counter()
     steps, agent_seconds, _ = timed_dry_run(env, agent)
     dry = {"steps": steps, "seconds": time.perf_counter() - began, "agent_seconds": agent_seconds}
@@ -182,7 +192,7 @@ def measure(n_place: int, args: Any, split: bool = False) -> dict[str, Any]:
     replay timed; its memory. With ``split``, one more (instrumented) pass of each walk splits the
     time of a step into :data:`AGENT_TERMS` (microseconds per step), and a replay into :data:`REPLAY_TERMS`."""
     resident_at_start = resident_megabytes()
-    env, agent, dry, run = trained(args.model, n_place, args.dry_run_steps, args.n_rays, args.seed)
+    env, agent, dry, run = trained(args.model, n_place, args.dry_run_steps, args.n_rays, args.seed, overrides(args))
     before_timing = copy.deepcopy(agent.reward)  # replaying again adds to the reward weights: put them back after
     replay_from_cells = int(np.count_nonzero(agent.place.v > 0))  # replay spreads from the cells active at the goal
     replay_ms = []
@@ -224,6 +234,11 @@ def measure(n_place: int, args: Any, split: bool = False) -> dict[str, Any]:
         "peak_rss_above_start_mb": round(peak_resident_megabytes() - resident_at_start, 1),
     }
     return row
+
+
+def overrides(args: Any) -> dict[str, Any]:
+    """The default model's AgentConfig fields from ``args.config`` (JSON; '' for none)."""
+    return json.loads(args.config) if getattr(args, "config", "") else {}
 
 
 def _split_walk(agent: HippocampalAgent, recorded: list) -> dict[str, Any]:
