@@ -447,3 +447,17 @@ def test_flat_indices_and_centres_are_flat_index_and_centre_for_many():
     flat = m.flat_indices(points)
     assert flat.tolist() == [m.flat_index(*p) for p in points]
     assert m.centres(flat).tolist() == [list(m.centre(int(f))) for f in flat]
+
+
+def test_the_revision_counts_changes_to_what_the_map_says_of_a_cell_not_its_counts():
+    """An open scan again adds to the free counts but makes no cell free or a wall that was not:
+    the revision (the searches' cache key) stays; a scan that ends on that free ground moves it."""
+    m = ExplorationMap(MapConfig(extent=5.0))
+    open_scan = np.full(720, 10.0, dtype=np.float32)  # nothing within range: free ground only
+    m.observe(np.zeros(2), 0.0, open_scan, max_range=10.0)
+    before, free = m.revision, m.free.copy()
+    m.observe(np.zeros(2), 0.0, open_scan, max_range=10.0)
+    assert m.revision == before and (m.free > free).any()
+    for _ in range(5):  # boundaries on that ground, until the map holds them as walls
+        m.observe(np.zeros(2), 0.0, ring_scan(radius=1.0), max_range=10.0)
+    assert m.revision > before and m.wall_near(np.zeros(2), 0.0, 1.0)

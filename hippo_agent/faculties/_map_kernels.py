@@ -33,7 +33,9 @@ def enter_scan(
     free, hits, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, unknown_only
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
-    (with ``unknown_only``, only cells neither free nor hit so far). Returns how many counts changed."""
+    (with ``unknown_only``, only cells neither free nor hit so far). Returns how many cells changed
+    what the map says of them (known free, a wall); a count that changes neither is not counted
+    (the searches and the fits read only that)."""
     n = free.shape[0]
     changed = 0
     n_rays = ranges.size
@@ -52,16 +54,20 @@ def enter_scan(
                 break
             if i != last_i or j != last_j:
                 if free[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
+                    # a cell known free stays so; it changes if it was unknown or stops being a wall
+                    if free[i, j] == 0 or (hits[i, j] > 0 and hits[i, j] == free[i, j]):
+                        changed += 1
                     free[i, j] += 1
-                    changed += 1
                 last_i, last_j = i, j
             t += step
         if d < hit_range and d < max_range * 0.999:
             i = _grid_index(x + d * c + extent, cell, inv_cell)
             j = _grid_index(y + d * s + extent, cell, inv_cell)
             if 0 <= i < n and 0 <= j < n and hits[i, j] < 65535 and not (unknown_only and (free[i, j] > 0 or hits[i, j] > 0)):
+                # a hit makes a wall of a cell that was not one (hits + 1 >= free, where hits < free)
+                if hits[i, j] + 1 == free[i, j] or (hits[i, j] == 0 and free[i, j] == 0):
+                    changed += 1
                 hits[i, j] += 1
-                changed += 1
     return changed
 
 

@@ -26,8 +26,9 @@ cells from the robot's cell and heads straight for the farthest point of the pat
   the place: it finds paths exactly as short as the breadth-first search's over the same cells,
   but expands only the cells along its way, not every cell nearer than the place. While the
   robot stays in one cell and the grids do not change (the map's *revision* counts the
-  changes), the path is the same: it is searched once. Whether a cell is walkable, which every
-  search asks of the cells it reaches, is likewise worked out once per revision.
+  changes to what they say of a cell: known free, a wall), the path is the same: it is searched
+  once; so is a path to a given cell. Whether a cell is walkable, which every search asks of the
+  cells it reaches, is likewise worked out once per revision.
 """
 
 from __future__ import annotations
@@ -147,10 +148,13 @@ class ExplorationMap:
         self._heap_cells = np.zeros(8 * n * n, dtype=np.int32)
         self._search_id = np.zeros(1, dtype=np.int32)
         self._nothing = np.zeros((n, n), dtype=np.bool_)  # "none done" for a search into a disk (never written)
-        self.revision = 0  # counts the changes to free and hits
-        # the last search into a disk with nothing done: its start cell, disk, squeeze and the
-        # grids' revision, and the cell found (its path back is in _parent until the next search)
-        self._last_plan: tuple[int, int, float, float, float, bool, int] | None = None
+        # counts the changes to what the grids say of a cell (known free, a wall): all the searches,
+        # walkability and the scan's fit read of free and hits (a count that changes neither is not one)
+        self.revision = 0
+        # the last search whose result the grids alone decide (to a cell, or into a disk with nothing
+        # done): its start cell, target, disk, squeeze and the grids' revision, and the cell found
+        # (its path back is in _parent until the next search)
+        self._last_plan: tuple[Any, ...] | None = None
         self._last_found = -1
 
     # ------------------------------------------------------------------ senses
@@ -360,11 +364,13 @@ class ExplorationMap:
             raise ValueError(f"target={target}; allowed: a cell's flat index, or -1 for the nearest cell that known does not hold")
         i, j = self.index(float(position[0]), float(position[1]))
         known = self.visited if known is None else known
-        plan = None
-        if disk is not None and known is self._nothing:
+        plan: tuple[Any, ...] | None = None
+        if disk is None and target >= 0:  # (known is not read)
+            plan = (i, j, int(target), squeeze, self.revision)
+        elif disk is not None and known is self._nothing:
             plan = (i, j, float(disk[0][0]), float(disk[0][1]), float(disk[1]), squeeze, self.revision)
-            if plan == self._last_plan:
-                return self._last_found  # the same start cell, disk and grids: the same path
+        if plan is not None and plan == self._last_plan:
+            return self._last_found  # the same start cell, target and grids: the same path
         self._search_id[0] += 1
         if disk is None:
             found, _ = search(
