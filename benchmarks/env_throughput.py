@@ -20,9 +20,16 @@ range), each point in a fresh process, with the time of a step split into ray ca
 and the rest of ``step`` with its wrappers ("step_overhead"). It writes the table, the log-log
 slopes, the part that dominates at each end, and a figure (``.png`` beside the JSON).
 
+``--profile`` splits a step at 720 rays in each maze (``--mazes``, each in a fresh process) finer,
+into :data:`PROFILE_TERMS`: ray casting, physics (free steps) and its substeps near walls, the
+observation and info built around them, the geodesic and the rest of a reset, ``HippoMazeEnv.step``'s
+own lines, and gymnasium's registered wrappers with the loop ("step_overhead"). The instrumented pass
+is slower than a plain one (``instrumentation_us_per_step``): read the parts beside each other.
+
     python -m benchmarks.env_throughput                      # writes benchmarks/results/env_throughput.json
     python -m benchmarks.env_throughput --steps 2000 --repeats 1 --out /tmp/quick.json
     python -m benchmarks.env_throughput --scaling            # benchmarks/results/env_scaling.json and .png
+    python -m benchmarks.env_throughput --profile            # benchmarks/results/env_profile.json
     python -m benchmarks.env_throughput --scaling --scaling-mazes open --scaling-rays 64 720 --scaling-sizes 10 20 \
         --steps 500 --warmup 100 --repeats 1 --out /tmp/env_scaling.json   # a quick look
 """
@@ -59,6 +66,7 @@ from benchmarks.records import env_peer
 from benchmarks.targets import target, verdict
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import RobotWorld
+from hippomaze.runinfo import source_digest
 from hippomaze.stats import median_and_quartiles
 
 
@@ -68,12 +76,13 @@ class Args:
     """the mazes to time"""
     rays: tuple[int, ...] = (64, 720)
     """rangefinder resolutions to time through gym.make"""
-    steps: int = 20_000
+    steps: int = 10_000
     """timed steps per repeat (per sub-environment for the vector env)"""
     warmup: int = 1_000
     """untimed steps first (numba and pymunk warm up; caches fill)"""
-    repeats: int = 3
-    """timed repeats; the median is reported"""
+    repeats: int = 7
+    """timed repeats, short and many so that the interleaved ratios see the same load; the median (and
+    for the peer ratio the quartiles) is reported"""
     vec_envs: int = 2
     """sub-environments for the vector envs (0 skips them)"""
     vec_modes: tuple[str, ...] = ("async", "sync")
@@ -88,6 +97,8 @@ class Args:
     """the peer environment timed beside each maze ("" skips it)"""
     scaling: bool = False
     """measure how the cost grows instead (see above): each point in a fresh process"""
+    profile: bool = False
+    """split a step at 720 rays into finer parts instead (see above): each maze in a fresh process"""
     scaling_mazes: tuple[str, ...] = ("open", "maze2")
     """built-in mazes of the scaling table"""
     scaling_rays: tuple[int, ...] = (64, 128, 256, 360, 720)
@@ -96,13 +107,17 @@ class Args:
     """arena sides of the scaling table (m; the built-in geometry scaled up, at 720 rays)"""
     out: str = ""
     """where the JSON goes (relative to the repository root unless absolute); '' = benchmarks/results/
-    env_throughput.json, or with --scaling benchmarks/results/env_scaling.json (the figure beside it)"""
+    env_throughput.json, with --scaling benchmarks/results/env_scaling.json (the figure beside it), with
+    --profile benchmarks/results/env_profile.json"""
 
 
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
     if args.scaling:
         scaling(args)
+        return
+    if args.profile:
+        profile(args)
         return
     rng = np.random.default_rng(args.seed)
     load_at_start = load_average()
@@ -294,6 +309,18 @@ ENV_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
     "reset": (("", "reset"),),
 }
 
+# The finer parts of ``--profile``; the rest of a step (gymnasium's wrappers, the loop) is "step_overhead".
+PROFILE_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
+    "ray_cast": ENV_TERMS["ray_cast"],
+    "physics": ENV_TERMS["physics"],  # turning, and a control step far from walls in one physics step
+    "physics_near_walls": (("world", "_drive_near_walls"),),  # the substeps near walls
+    "observation": (("", "_observe"),),  # less its ray cast
+    "info": (("", "_info"),),
+    "geodesic": (("", "_shortest_path"),),  # once per reset
+    "reset": ENV_TERMS["reset"],  # less its geodesic, ray cast and observation
+    "env_step": (("", "step"),),  # HippoMazeEnv.step's own lines
+}
+
 
 def scaled_maze(name: str, size: float) -> MazeSpec:
     """A built-in maze scaled up (or down) uniformly to a side of ``size`` metres: walls, obstacles,
@@ -310,36 +337,47 @@ def scaled_maze(name: str, size: float) -> MazeSpec:
     )
 
 
-def measure_point(maze: str, size: float, n_rays: int, args: Args) -> dict[str, Any]:
+def measure_point(
+    maze: str, size: float, n_rays: int, args: Args, terms: dict[str, tuple[tuple[str, str], ...]] = ENV_TERMS, split_passes: int = 1
+) -> dict[str, Any]:
     """One point of the scaling table: ``gym.make`` of the scaled maze, timed as the single-env table
-    is (median of ``args.repeats``), then one instrumented pass of ``args.steps`` steps split into
-    :data:`ENV_TERMS` (microseconds per step; the instrumented pass is a little slower: read the
-    shares); the process's memory (run it in a fresh process for its own peak)."""
+    is (median of ``args.repeats``), then ``split_passes`` instrumented passes of ``args.steps`` steps
+    split into ``terms`` (microseconds per step, each term's median over the passes; an instrumented
+    pass is slower: read the shares); the process's memory (run it in a fresh process for its own peak)."""
     resident_at_start = resident_megabytes()
     began = time.perf_counter()
     env = gym.make("HippoMaze-v0", maze=scaled_maze(maze, size), n_rays=n_rays)
     env.reset(seed=args.seed)
     make_seconds = time.perf_counter() - began
-    actions = np.random.default_rng(args.seed).integers(0, 8, args.warmup + (args.repeats + 1) * args.steps).tolist()
+    actions = np.random.default_rng(args.seed).integers(0, 8, args.warmup + (args.repeats + split_passes) * args.steps).tolist()
     timed = _Timed(env, actions, args)
     timed.warm_up()
     for r in range(args.repeats):
         timed.repeat(r)
     timer = SplitTimer()
-    for term, methods in ENV_TERMS.items():
+    for term, methods in terms.items():
         for owner, name in methods:
             timer.wrap(getattr(env.unwrapped, owner) if owner else env.unwrapped, name, term)
-    first = args.warmup + args.repeats * args.steps
     timed.collisions = 0
-    began = time.perf_counter()
-    timed._run(actions[first : first + args.steps])
-    total = time.perf_counter() - began
+    passes: list[dict[str, float]] = []
+    calls = dict.fromkeys(timer.calls, 0)
+    reset_seconds = 0.0
+    for k in range(split_passes):
+        first = args.warmup + (args.repeats + k) * args.steps
+        timer.reset()
+        began = time.perf_counter()
+        timed._run(actions[first : first + args.steps])
+        total = time.perf_counter() - began
+        passes.append({("step_overhead" if t == "other" else t): 1e6 * v / args.steps for t, v in timer.split(total).items()})
+        passes[-1]["total"] = 1e6 * total / args.steps
+        calls = {t: calls[t] + timer.calls[t] for t in calls}
+        reset_seconds += timer.seconds.get("reset", 0.0)
     timer.unwrap()
-    split = {("step_overhead" if t == "other" else t): round(1e6 * v / args.steps, 3) for t, v in timer.split(total).items()}
-    split["total"] = round(1e6 * total / args.steps, 3)
+    split: dict[str, Any] = {t: round(statistics.median(p[t] for p in passes), 3) for t in passes[0]}
     if timer.missing:
         split["methods_not_found"] = timer.missing
     env.close()
+    steps = split_passes * args.steps
     return {
         "maze": maze,
         "size_m": size,
@@ -350,9 +388,11 @@ def measure_point(maze: str, size: float, n_rays: int, args: Args) -> dict[str, 
         "steps_per_cpu_second": round(statistics.median(timed.cpu)),
         "repeats": [round(r) for r in timed.wall],
         "split_us_per_step": split,
-        "wall_contact_share": round(timed.collisions / args.steps, 3),
-        "resets_in_split_pass": timer.calls.get("reset", 0),
-        "ms_per_reset": round(1e3 * timer.seconds["reset"] / timer.calls["reset"], 3) if timer.calls.get("reset") else None,
+        "split_passes": split_passes,
+        "calls_per_step": {term: round(n / steps, 4) for term, n in calls.items()},
+        "wall_contact_share": round(timed.collisions / steps, 3),
+        "resets_in_split_passes": calls.get("reset", 0),
+        "ms_per_reset": round(1e3 * reset_seconds / calls["reset"], 3) if calls.get("reset") else None,
         "make_and_reset_seconds": round(make_seconds, 3),
         "peak_rss_mb": round(peak_resident_megabytes(), 1),
         "peak_rss_above_start_mb": round(peak_resident_megabytes() - resident_at_start, 1),
@@ -441,6 +481,35 @@ def plot_scaling(table: dict[str, Any], path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+# ============================================================================ profile
+def profile(args: Args) -> None:
+    """:func:`measure_point` at 720 rays with :data:`PROFILE_TERMS` for each of ``args.mazes``, each in
+    a fresh process; the record names the source of the ``hippo_env`` that ran."""
+    load_at_start = load_average()
+    print(
+        f"hippomaze env profile: {args.steps} steps x {args.repeats} repeats (median) after {args.warmup}, then {args.repeats} "
+        "instrumented passes (median per part); 720 rays, each maze in a fresh process"
+    )
+    rows = []
+    for maze in args.mazes:
+        row = in_fresh_process(measure_point, maze, max(MazeSpec.load(maze).size), 720, args, PROFILE_TERMS, args.repeats)
+        plain = 1e6 / row["steps_per_second"]
+        row["plain_us_per_step"] = round(plain, 3)
+        row["instrumentation_us_per_step"] = round(row["split_us_per_step"]["total"] - plain, 3)
+        rows.append(row)
+        parts = ", ".join(f"{t} {v:.2f}" for t, v in row["split_us_per_step"].items() if isinstance(v, float | int) and t != "total")
+        print(f"  {maze:6s} {plain:6.2f} us/step plain; instrumented {row['split_us_per_step']['total']:.2f}: {parts}", flush=True)
+    record = {
+        **_header(args, load_at_start),
+        "hippo_env_source_sha256": source_digest(("hippo_env",)).get("hippo_env"),
+        "terms": {term: [".".join(filter(None, m)) for m in methods] for term, methods in PROFILE_TERMS.items()},
+        "rows": rows,
+    }
+    out = output_path(args.out or "benchmarks/results/env_profile.json")
+    hippo_env.write_json(out, record)
+    print(f"wrote {out}")
 
 
 if __name__ == "__main__":

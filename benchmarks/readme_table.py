@@ -262,6 +262,8 @@ def env_row() -> list[str]:
     if peer is None:
         return [label, NOT_MEASURED, goal.text(unit="x")]
     spread_text = f"{num(min(peer['per_maze'].values()))}-{num(max(peer['per_maze'].values()))}x over the mazes"
+    if peer["slowest_quartiles"]:
+        spread_text = f"{num(peer['slowest_quartiles'][0])}-{num(peer['slowest_quartiles'][1])}x; {spread_text}"
     return [label, f"{num(peer['slowest'])}x ({spread_text})", f"{goal.text(unit='x')}: {outcome([goal.met(peer['slowest'])])}"]
 
 

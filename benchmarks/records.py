@@ -153,10 +153,17 @@ def scaling_figures(record: dict[str, Any]) -> dict[str, Any]:
 
 def env_peer(record: dict[str, Any]) -> dict[str, Any] | None:
     """``benchmarks.env_throughput``'s steps/s over its peer's at 720 rays, timed interleaved: per maze
-    (its ``x_peer``) and the slowest maze's; None if the peer was not timed."""
+    (its ``x_peer``) and the slowest maze's, with its quartiles over the repeats; None if the peer was not timed."""
     peer = record["peer"]
     if not peer.get("timed"):
         return None
-    per_maze = {row["maze"]: row["x_peer"] for row in record["single_env"] if "x_peer" in row}
+    rows = {row["maze"]: row for row in record["single_env"] if "x_peer" in row}
+    per_maze = {maze: row["x_peer"] for maze, row in rows.items()}
     slowest = min(per_maze, key=per_maze.get)
-    return {"name": peer["name"], "per_maze": per_maze, "slowest_maze": slowest, "slowest": per_maze[slowest]}
+    return {
+        "name": peer["name"],
+        "per_maze": per_maze,
+        "slowest_maze": slowest,
+        "slowest": per_maze[slowest],
+        "slowest_quartiles": rows[slowest].get("x_peer_quartiles"),
+    }

@@ -327,9 +327,11 @@ def env_throughput() -> str:
     peer = records.env_peer(data)
     goal = target("env_vs_pointmaze")
     if peer is not None:
+        quartiles = peer["slowest_quartiles"]
+        spread = f"quartiles over the repeats {num(quartiles[0])}-{num(quartiles[1])}x; " if quartiles else ""
         text += (
             f"\n\nAt 720 rays, timed interleaved with Gymnasium-Robotics' `{peer['name']}`, the slowest maze ({peer['slowest_maze']})"
-            f" ran {num(peer['slowest'])}x as fast (target {goal.text(unit='x')}: {verdict(goal.met(peer['slowest']))})."
+            f" ran {num(peer['slowest'])}x as fast ({spread}target {goal.text(unit='x')}: {verdict(goal.met(peer['slowest']))})."
         )
     load_note = data.get("machine", {}).get("load_average_at_start")
     if load_note:

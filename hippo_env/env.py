@@ -248,30 +248,36 @@ class HippoMazeEnv(gym.Env):
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         if not self._reset_done:
             raise gym.error.ResetNeeded("call reset() before step(): the robot has no start pose until the first reset places it")
-        before = self.world.position
+        world = self.world
+        before = world.position
         if self.action_type == "discrete":
-            collision = self.world.drive_heading(self._discrete_action(action) * math.pi / 4)
+            collision = world.drive_heading(self._discrete_action(action) * math.pi / 4)
         elif self.action_type == "heading":
-            collision = self.world.drive_heading(float(self._box_action(action)[0]))
+            collision = world.drive_heading(float(self._box_action(action)[0]))
         elif self.action_type == "heading_normalized":
-            collision = self.world.drive_heading(math.pi * float(self._box_action(action)[0]))
+            collision = world.drive_heading(math.pi * float(self._box_action(action)[0]))
         else:
             left, right = self._box_action(action)
-            collision = self.world.drive_wheels(float(left), float(right))
-        after = self.world.position
+            collision = world.drive_wheels(float(left), float(right))
+        x, y, heading = world.pose
+        after = (x, y)
+        moved = (x - before[0], y - before[1])
         self._path.append(after)
-        self._path_length += math.hypot(after[0] - before[0], after[1] - before[1])
+        self._path_length += math.hypot(*moved)
         self._elapsed += 1
 
         goal = self.goal
-        success = goal is not None and math.hypot(after[0] - goal[0], after[1] - goal[1]) < self.goal_radius
+        if goal is None:
+            success = False
+        else:
+            goal_x, goal_y = goal.tolist()  # floats: cheaper arithmetic than numpy's scalars
+            success = math.hypot(x - goal_x, y - goal_y) < self.goal_radius
         reward = 1.0 if success else 0.0
         if self.reward_type == "dense" and goal is not None:
             progress = self._distance_to_goal(before) - self._distance_to_goal(after)
             reward += 0.1 * progress / (physics.MAX_SPEED * physics.CONTROL_DT)
-        heading = self.world.heading
-        observation = self._observe(after, heading, moved=(after[0] - before[0], after[1] - before[1]))
-        info = self._info(after, heading, collision=collision, success=success)
+        observation = self._observe(after, heading, moved)
+        info = self._info(after, heading, collision, success)
         if success:
             add_indirectness(info)
         if self.render_mode == "human":
@@ -332,7 +338,7 @@ class HippoMazeEnv(gym.Env):
             ranges = self.rangefinder.scan_float32(position[0], position[1], heading)
             self._ranges = self.rangefinder.last_ranges  # overwritten by the next scan; _frame copies it
         compass = heading + self.np_random.normal(0.0, self.heading_noise) if self.heading_noise > 0 else heading
-        observation = {"ranges": ranges, "heading": np.array([math.cos(compass), math.sin(compass)], np.float32)}
+        observation = {"ranges": ranges, "heading": np.array((math.cos(compass), math.sin(compass)), np.float32)}
         if self.odometry:
             c, s = math.cos(heading), math.sin(heading)
             step = np.array([c * moved[0] + s * moved[1], -s * moved[0] + c * moved[1]])  # (forward, left)
@@ -342,9 +348,9 @@ class HippoMazeEnv(gym.Env):
         return observation
 
     def _info(self, position: tuple[float, float], heading: float, collision: bool, success: bool) -> dict[str, Any]:
-        goal = np.full(2, math.nan) if self.goal is None else np.array(self.goal, dtype=np.float64)
+        goal = np.full(2, math.nan) if self.goal is None else self.goal.copy()  # the goal is a float array (2,)
         return {
-            "position": np.array(position, dtype=np.float64),
+            "position": np.array(position),  # floats: a float64 array
             "heading": heading,
             "goal": goal,
             "is_success": success,
@@ -355,6 +361,8 @@ class HippoMazeEnv(gym.Env):
         }
 
     def _discrete_action(self, action: Any) -> int:
+        if type(action) is int and 0 <= action < 8:  # the common case first (a bool is not an int here)
+            return action
         if isinstance(action, np.ndarray) and action.shape == (1,):
             action = action[0]  # what a vectorised policy hands a single env
         if isinstance(action, (int, np.integer)) and not isinstance(action, (bool, np.bool_)) and 0 <= action < 8:
@@ -501,10 +509,10 @@ class EpisodeEndInfo(gym.Wrapper, gym.utils.RecordConstructorArgs):
         gym.Wrapper.__init__(self, env)
 
     def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
-        observation, reward, terminated, truncated, info = self.env.step(action)
-        if truncated and not terminated:
-            add_indirectness(info)
-        return observation, reward, terminated, truncated, info
+        result = self.env.step(action)  # (observation, reward, terminated, truncated, info), passed on as it came
+        if result[3] and not result[2]:
+            add_indirectness(result[4])
+        return result
 
 
 def _as_xy(value: Any, where: str) -> np.ndarray:

@@ -143,6 +143,13 @@ class RobotWorld:
         """Compass heading in (-pi, pi]."""
         return wrap_angle(self._calls.get_angle(self._h_body))
 
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        """:attr:`position` and :attr:`heading` as ``(x, y, heading)``, read in one call."""
+        calls, body = self._calls, self._h_body
+        p = calls.get_position(body)
+        return (p.x, p.y, wrap_angle(calls.get_angle(body)))
+
     def clearance(self) -> float:
         """Distance from the robot's centre to the nearest wall."""
         p = self._calls.get_position(self._h_body)
@@ -154,10 +161,11 @@ class RobotWorld:
         Returns whether a wall blocked the robot.
         """
         calls, body = self._calls, self._h_body
+        angle = wrap_angle(heading)
         turn = abs(wrap_angle(heading - calls.get_angle(body)))
         self.sim_time += turn / TURN_RATE
-        calls.set_angle(body, wrap_angle(heading))
-        return self.drive_wheels(1.0, 1.0)
+        calls.set_angle(body, angle)
+        return self._drive(MAX_SPEED, 0.0, angle)  # both wheels at top speed; the body's angle is the one just set
 
     def drive_wheels(self, left: float, right: float) -> bool:
         """Drive the wheels at ``left``, ``right`` in [-1, 1] of top speed for one control step.
@@ -166,10 +174,14 @@ class RobotWorld:
         """
         speed = MAX_SPEED * (left + right) / 2.0
         spin = MAX_SPEED * (right - left) / AXLE_LENGTH
+        return self._drive(speed, spin, self._calls.get_angle(self._h_body))
+
+    def _drive(self, speed: float, spin: float, start_angle: float) -> bool:
+        """One control step at ``speed`` (m/s) and ``spin`` (rad/s) from the body's angle ``start_angle``;
+        whether a wall blocked the robot."""
         calls, body = self._calls, self._h_body
         start = calls.get_position(body)
         start_x, start_y = start.x, start.y
-        start_angle = calls.get_angle(body)
         gap = segments_clearance(start_x, start_y, self.segments) - self.radius
         velocity = _chord_velocity(speed, spin, start_angle, CONTROL_DT)
         if gap > abs(speed) * CONTROL_DT + SKIN:
@@ -179,7 +191,7 @@ class RobotWorld:
             calls.space_step(self._h_space, CONTROL_DT)
             self._last_dt = CONTROL_DT
         else:
-            self._drive_near_walls(speed, spin)
+            self._drive_near_walls(speed, spin, start_x, start_y, gap)
         calls.set_velocity(body, (0.0, 0.0))
         calls.set_angular_velocity(body, 0.0)
         self.sim_time += CONTROL_DT
@@ -188,8 +200,9 @@ class RobotWorld:
         p = calls.get_position(body)
         return math.hypot(p.x - end_x, p.y - end_y) > BLOCKED_TOLERANCE
 
-    def _drive_near_walls(self, speed: float, spin: float) -> None:
-        """Substeps of ``SKIN`` travel, with the motors acting as forces.
+    def _drive_near_walls(self, speed: float, spin: float, x: float, y: float, gap: float) -> None:
+        """Substeps of ``SKIN`` travel, with the motors acting as forces, from ``(x, y)``, where the
+        robot's edge is ``gap`` from the nearest wall.
 
         pymunk moves a body with its velocity before it solves contacts, so the motors are the
         force that brings the velocity to the commanded one, and the contact solver removes
@@ -197,6 +210,11 @@ class RobotWorld:
         that does not move the robot shows the solver the new command. Substeps are all alike
         (pymunk scales its cached contact impulses by the ratio of successive time steps)
         until the robot is clear of every wall, when one step finishes the control step.
+
+        Whether it is clear is a bound first: the distance to the walls is 1-Lipschitz, so since the
+        last point where it was computed it has grown by no more than the distance moved. Only where
+        that bound (with a margin far beyond rounding) could pass the test is the distance computed,
+        so the test's outcome is exactly the one computing it every substep would give.
         """
         body, space, segments = self._h_body, self._h_space, self.segments
         mass, moment = self._mass, self._moment
@@ -240,8 +258,15 @@ class RobotWorld:
                 if remaining <= 1e-12:
                     break
             p = get_position(body)
-            if remaining < dt or segments_clearance(p.x, p.y, segments) - radius > travel * remaining + skin:
+            if remaining < dt:
                 dt = remaining
+                continue
+            reach = travel * remaining + skin
+            if gap + math.hypot(p.x - x, p.y - y) > reach - 1e-9:
+                x, y = p.x, p.y
+                gap = segments_clearance(x, y, segments) - radius
+                if gap > reach:
+                    dt = remaining
         self._last_dt = stepped
 
 
