@@ -34,7 +34,7 @@ end. It writes the table and a figure (``.png`` beside the JSON). RatInABox is n
     python -m benchmarks.agent_throughput            # writes benchmarks/results/agent_throughput.json
     python -m benchmarks.agent_throughput --steps 300 --repeats 2 --dry-run-steps 300 --peer-steps 20 \\
         --out /tmp/quick.json                          # a quick look
-    python -m benchmarks.agent_throughput --config '{"localisation.check_every": 4, "map.run_every": 4}' \
+    python -m benchmarks.agent_throughput --config '{"localisation.check_every": 4, "map.run_every": 4}' \\
         --out /tmp/lazier.json                         # what a setting of the default model costs or saves
     python -m benchmarks.agent_throughput --scaling  # benchmarks/results/agent_scaling_default.json and .png
     python -m benchmarks.agent_throughput --scaling --scaling-cells 250 500 --steps 200 --scaling-repeats 1 \\
