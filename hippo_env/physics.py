@@ -140,7 +140,7 @@ class RobotWorld:
 
     @property
     def heading(self) -> float:
-        """Compass heading in (-pi, pi]."""
+        """Compass heading in [-pi, pi) (:func:`~hippo_env.geometry.wrap_angle`)."""
         return wrap_angle(self._calls.get_angle(self._h_body))
 
     @property
