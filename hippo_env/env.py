@@ -516,8 +516,9 @@ class EpisodeEndInfo(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
 
 def _as_xy(value: Any, where: str) -> np.ndarray:
+    """``value`` as a new float64 point ``[x, y]`` (a copy: the caller's array may change later)."""
     try:
-        point = np.asarray(value, dtype=np.float64)
+        point = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
         point = None
     if point is None or point.shape != (2,) or not np.all(np.isfinite(point)):

@@ -198,3 +198,13 @@ def test_dense_reward_follows_a_moved_goal_and_keeps_the_field_for_the_same_goal
     assert env.unwrapped._distance_field is field
     env.reset(options={"goal": [-3.0, 0.0], "start": [0.0, 0.0]})
     assert env.step(0)[1] < 0 < env.step(4)[1]  # east is now away from the goal, west toward it
+
+
+def test_a_goal_given_as_an_array_is_copied_not_kept():
+    """The caller's array may change after the reset; the env's goal does not."""
+    env = make()
+    goal = np.array([1.0, 1.0])
+    env.reset(seed=0, options={"goal": goal})
+    goal[:] = 4.0
+    assert np.array_equal(env.unwrapped.goal, [1.0, 1.0])
+    env.close()
