@@ -179,9 +179,12 @@ class Localisation:
 
         return likelihood, proposals
 
-    def _fit(self, points: np.ndarray, heading: float, ranges: np.ndarray, around: np.ndarray | None = None) -> np.ndarray:
-        """The beam model's fit of the scan to the map from each of ``points`` (:meth:`ExplorationMap.scan_agreement`)."""
-        return self.map.scan_agreement(points, heading, ranges, self.max_range, around, self.config.short_weight)
+    def _fit(
+        self, points: np.ndarray, heading: float, ranges: np.ndarray, around: np.ndarray | None = None, judged: np.ndarray | None = None
+    ) -> np.ndarray:
+        """The beam model's fit of the scan to the map from each of ``points`` (:meth:`ExplorationMap.scan_agreement`;
+        ``judged``: the first place's fit as :meth:`well_placed` judges it, from the same ray march)."""
+        return self.map.scan_agreement(points, heading, ranges, self.max_range, around, self.config.short_weight, judged=judged)
 
     def _walkable(self) -> np.ndarray:
         if self._candidates is None:  # (the map does not change while the robot is lost)
@@ -204,9 +207,7 @@ class Localisation:
         if not self.pi.anchored or step % every:
             return
         c = self.config
-        fits = self.map.scan_agreement(
-            self.look_alikes, heading, ranges, self.max_range, self.pi.estimate, c.short_weight, judged=self._judged
-        )
+        fits = self._fit(self.look_alikes, heading, ranges, around=self.pi.estimate, judged=self._judged)
         self._judged_fit, self._judged_key, self._judged_ranges = float(self._judged[0]), self._key(heading), ranges
         rate = min(1.0, c.fit_rate * every)
         own = float(fits[0])
