@@ -125,8 +125,7 @@ class Homing:
         target = self.remembered()
         if target is None:
             return math.inf
-        here = self.pi.estimate
-        return float(np.hypot(float(target[0]) - float(here[0]), float(target[1]) - float(here[1])))
+        return _distance(*target.tolist(), *self.pi.estimate.tolist())
 
     def plan(self) -> bool:
         """Decide :attr:`heading` for this step (``None``: homing does not steer: no memory, too
@@ -141,7 +140,7 @@ class Homing:
             return False
         here = self.pi.estimate
         (tx, ty), (x, y) = target.tolist(), here.tolist()  # (as floats: faster than on NumPy scalars)
-        distance = float(np.hypot(tx - x, ty - y))  # (as distance() measures it)
+        distance = _distance(tx, ty, x, y)
         if distance > c.radius:
             return False
         if distance < c.arrived and not self.searching:
@@ -208,6 +207,11 @@ class Homing:
             )
         self.found_sum, self.found_count = found_sum, found_count
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
+
+
+def _distance(tx: float, ty: float, x: float, y: float) -> float:
+    """From ``(x, y)`` to ``(tx, ty)``, m (NumPy's hypot, the one homing has always used)."""
+    return float(np.hypot(tx - x, ty - y))
 
 
 def _toward(start: np.ndarray, end: np.ndarray, length: float) -> tuple[float, float]:
