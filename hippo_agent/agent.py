@@ -354,13 +354,13 @@ class HippocampalAgent:
         # write walls where there are none); the ground it passes counts as searched once anchored
         if self.map is not None and pi is not None and pi.anchored:
             mapping = not dry and self.total_steps % self.map.config.run_every == 0
-            well_placed = (mapping or s.bumped) and not dry and self._well_placed(s)  # (one fit a step)
+            well_placed, walls_too = self._placement(s) if (mapping or s.bumped) and not dry else (False, False)  # (one fit a step)
             if dry:
                 self.map.observe(pi.estimate, s.heading, s.ranges, self.max_range)
             elif mapping:
                 mark = self.homing.search_mark if self.homing is not None else None
                 if well_placed:
-                    self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark)
+                    self.map.revise(pi.estimate, s.heading, s.ranges, self.max_range, search_radius=mark, write_new=walls_too)
                 else:
                     self.map.mark(pi.estimate, search_radius=mark)
             if dry and self.exploration is not None:
@@ -368,7 +368,7 @@ class HippocampalAgent:
                 if extra:
                     self.grow_place_cells(extra)
                 self.exploration.remember_code()
-            if s.bumped and (dry or (self.map.config.new_wall_evidence is not None and well_placed)):
+            if s.bumped and (dry or (self.map.config.new_wall_evidence is not None and walls_too)):
                 self.map.mark_bump(pi.estimate, s.heading, self.map.config.bump_distance, new=not dry)
         if self.localisation is not None and not dry and pi is not None and pi.anchored:
             self.localisation.count_bump(surprising)
@@ -380,9 +380,13 @@ class HippocampalAgent:
             if self.reflexes is not None:
                 self.reflexes.bumped(self.last_decision)
 
-    def _well_placed(self, s: Senses) -> bool:
-        """In a run: whether the map may be revised from this step's senses (:meth:`Localisation.well_placed`)."""
-        return self.localisation.well_placed(s.ranges, s.heading) if self.localisation is not None else bool(self.pi and self.pi.anchored)
+    def _placement(self, s: Senses) -> tuple[bool, bool]:
+        """In a run: whether the map may be revised from this step's senses, and whether it may also
+        gain walls (:meth:`Localisation.placement`)."""
+        if self.localisation is not None:
+            return self.localisation.placement(s.ranges, s.heading)
+        anchored = bool(self.pi and self.pi.anchored)
+        return anchored, anchored
 
     def _rewarded(self, trusted: bool) -> None:
         """The reward: replay (Algorithm 1) writes the goal's reward map, and homing remembers

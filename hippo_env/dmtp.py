@@ -327,7 +327,7 @@ def run_dmtp(
         action_type=maze_env(env).action_type,
         env_kwargs=dict(make_kwargs),
         agent_spec=agent_spec or _importable_name(make_agent) or agent_name,
-        versions=_versions(),
+        versions=package_versions(),
         agent_overrides=dict(agent_overrides) if agent_overrides else None,
         schedule=planner.schedule.to_dict() if planner is not None else None,
     )
@@ -552,16 +552,16 @@ def _importable_name(obj: Any) -> str | None:
     return f"{module}:{name}"
 
 
-def _versions() -> dict[str, str | None]:
-    """Python's version and those of the packages that decide a result (None where one is not installed)."""
+def package_versions(packages: tuple[str, ...] = ("gymnasium", "numpy", "pymunk")) -> dict[str, str | None]:
+    """Python's version, hippomaze's (the source's, not an editable install's stale metadata) and ``packages``' (None: not installed)."""
     from hippo_env import __version__
 
-    versions: dict[str, str | None] = {"python": platform.python_version()}
-    for package in ("hippomaze", "gymnasium", "numpy", "pymunk"):
+    versions: dict[str, str | None] = {"python": platform.python_version(), "hippomaze": __version__}
+    for package in packages:
         try:
             versions[package] = importlib.metadata.version(package)
         except importlib.metadata.PackageNotFoundError:
-            versions[package] = __version__ if package == "hippomaze" else None
+            versions[package] = None
     return versions
 
 

@@ -232,3 +232,24 @@ def test_in_a_world_that_may_change_a_bump_on_free_ground_writes_a_wall(small_ma
     for _ in range(12):
         agent.observe(0, still, 0.0, False, False, {"collision": True})
     assert agent.map.wall_near(agent.pi.estimate, heading, distance) and agent.pi.anchored
+
+
+def test_a_bump_writes_no_wall_while_the_scan_crosses_a_wall_the_map_holds(small_maze):
+    """The map gains walls only from scans that cross fewer walls it holds than
+    ``new_wall_agreement`` allows (a robot a block's width off sees the map's walls through the
+    gaps): the same bumps as above, with rays that pass through the map's walls, write nothing,
+    though the scan is still good enough to revise the map (``revise_agreement``)."""
+    values = {"localisation.revise_agreement": 0.0, "localisation.new_wall_agreement": 1.0}
+    agent, obs = thirty_steps_into_a_run(small_maze, values)
+    ranges, heading = unpack(obs)[0], unpack(obs)[2]
+    through = ranges.copy()
+    through[::40] = float(agent.max_range)  # one ray in 40 goes on through the map's walls
+    judged = agent.map.scan_agreement(agent.pi.estimate[None, :], heading, through, agent.max_range, short_weight=0.0, judged_only=True)[0]
+    assert 0.0 <= judged < 1.0
+    assert agent.localisation.placement(through, heading) == (True, False)
+    distance = agent.config.map.bump_distance
+    assert not agent.map.wall_near(agent.pi.estimate, heading, distance)
+    still = {**obs, "ranges": through.astype(obs["ranges"].dtype), "odometry": np.zeros(2, dtype=np.float32)}
+    for _ in range(12):
+        agent.observe(0, still, 0.0, False, False, {"collision": True})
+    assert not agent.map.wall_near(agent.pi.estimate, heading, distance)

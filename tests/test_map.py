@@ -261,6 +261,7 @@ def test_grid_indices_by_multiplication_equal_those_by_division():
             False,
             out,
             np.empty(0),
+            1.0,
         )
         fits.append(out)
     np.testing.assert_array_equal(fits[0], fits[1])
@@ -461,3 +462,39 @@ def test_the_revision_counts_changes_to_what_the_map_says_of_a_cell_not_its_coun
     for _ in range(5):  # boundaries on that ground, until the map holds them as walls
         m.observe(np.zeros(2), 0.0, ring_scan(radius=1.0), max_range=10.0)
     assert m.revision > before and m.wall_near(np.zeros(2), 0.0, 1.0)
+
+
+def test_a_reading_ending_by_a_wall_written_in_a_run_weighs_new_wall_weight():
+    """Walls written in runs come and go: a ray ending by one counts ``new_wall_weight`` of a ray
+    ending by a wall of the dry run, for the place and in the judged fit alike."""
+    m = ExplorationMap(MapConfig(extent=5.0, new_wall_evidence=5))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)  # a round room of 3 m
+    scan = _ring(3.0)
+    scan[: len(scan) // 4] = 1.0  # a quarter of the scan ends 1 m out: a new obstacle
+    for _ in range(5):
+        m.revise(np.zeros(2), 0.0, scan, max_range=10.0)
+    assert m.new_walls.any()
+    here = np.zeros((1, 2))
+    full, half, none = (m.scan_agreement(here, 0.0, scan, 10.0, new_wall_weight=w)[0] for w in (1.0, 0.5, 0.0))
+    assert full == half == none == pytest.approx(1.0)  # every judged ray a hit: the weight moves nothing
+    shifted = np.array([[0.4, 0.0]])  # from here some readings miss: the new wall's hits weigh less against them
+    fits = [m.scan_agreement(shifted, 0.0, scan, 10.0, new_wall_weight=w)[0] for w in (1.0, 0.5, 0.0)]
+    assert fits[0] > fits[1] > fits[2]
+    judged = np.empty(1)
+    m.scan_agreement(shifted, 0.0, scan, 10.0, judged=judged, new_wall_weight=0.5)
+    alone = m.scan_agreement(shifted, 0.0, scan, 10.0, short_weight=0.0, judged_only=True, new_wall_weight=0.5)[0]
+    assert judged[0] == alone
+
+
+def test_a_revision_that_may_not_write_walls_still_clears_them():
+    """``write_new=False`` (a scan that crosses a wall the map holds): boundaries on free ground stay
+    free however often they are seen, and walls the rays cross are still cleared."""
+    m = ExplorationMap(MapConfig(extent=6.0, new_wall_evidence=5, gone_wall_evidence=15))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    scan = _ring(5.0)  # the round wall gone ...
+    scan[:5] = 1.0  # ... and something new 1 m east
+    new, east = m.index(1.0, 0.0), m.index(-3.0, 0.0)
+    for _ in range(20):
+        m.revise(np.zeros(2), 0.0, scan, max_range=10.0, write_new=False)
+    assert not _wall(m, new) and not m.new_walls.any()
+    assert m.hits[east] == 0 and m.known_free[east]

@@ -6,14 +6,13 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
-import importlib.metadata
 import json
 from typing import Any, ClassVar
 
 import gymnasium as gym
 import pytest
 
-import hippo_env  # noqa: F401  (registers HippoMaze-v0)
+import hippo_env
 from hippo_env.dmtp import DMTPFailed, agent_config, run_dmtp
 from hippomaze import registry
 from hippomaze.cli import main
@@ -184,7 +183,7 @@ def test_record_says_what_reproduces_the_run(tmp_path):
     args = ["--trials", "2", "--runs", "2", "--agent", "tests.test_third_party:DryRunningAgent", "--action-type", "heading"]
     assert main([*QUICK, *args, "--env", "n_rays=16", "--out", str(out)]) == 0
     record = dmtp_record(out)
-    assert record["versions"]["hippomaze"] == importlib.metadata.version("hippomaze")
+    assert record["versions"]["hippomaze"] == hippo_env.__version__  # (the source's, not an editable install's metadata)
     assert record["versions"]["gymnasium"] == gym.__version__
     assert record["max_episode_steps"] == 20 and record["action_type"] == "heading"
     assert record["env_kwargs"] == {"action_type": "heading", "n_rays": 16, "max_episode_steps": 20}

@@ -92,10 +92,12 @@ def scan_agreement(
     judged_only,
     out,
     judged,
+    new_wall_weight,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
     ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
-    wall written in a run (``new_walls``). ``judged_only``: a ray ending where the map knows
+    wall written in a run (``new_walls``), and one ending by such a wall only weighs
+    ``new_wall_weight``. ``judged_only``: a ray ending where the map knows
     nothing is left out, and a place where no ray is judged fits 1. If ``judged`` has room, the
     first place's fit with short readings and unknown ends left out (``short_weight`` 0,
     ``judged_only``) goes there too, from the same ray march."""
@@ -144,11 +146,17 @@ def scan_agreement(
                 counted += 1.0
                 counted_judged += 1.0
                 continue
-            if wall_beside(free, hits, i, j):
+            beside = walls_beside(free, hits, new_walls, i, j)
+            if beside == 2:
                 counted += 1.0
                 total += 1.0
                 counted_judged += 1.0
                 total_judged += 1.0
+            elif beside == 1:  # a wall written in a run only
+                counted += new_wall_weight
+                total += new_wall_weight
+                counted_judged += new_wall_weight
+                total_judged += new_wall_weight
             elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
                 counted += short_weight
                 total -= short_weight
@@ -160,13 +168,17 @@ def scan_agreement(
 
 
 @njit(cache=True, inline="always")
-def wall_beside(free, hits, i, j):  # pragma: no cover - compiled
-    """Whether the map holds a wall in the 3 x 3 cells round ``(i, j)`` (not at the grid's edge)."""
+def walls_beside(free, hits, new_walls, i, j):  # pragma: no cover - compiled
+    """2 if the map holds a wall not written in a run in the 3 x 3 cells round ``(i, j)``, else 1
+    if it holds one written in a run there, else 0."""
+    found = 0
     for a in range(i - 1, i + 2):
         for b in range(j - 1, j + 2):
             if hits[a, b] > 0 and hits[a, b] >= free[a, b]:
-                return True
-    return False
+                if not new_walls[a, b]:
+                    return 2
+                found = 1
+    return found
 
 
 @njit(cache=True)

@@ -6,7 +6,7 @@ import math
 
 from numba import njit
 
-from hippo_agent.faculties._map_kernels import _grid_index, wall_beside
+from hippo_agent.faculties._map_kernels import _grid_index, walls_beside
 
 __all__ = ["revise_scan"]
 
@@ -33,6 +33,7 @@ def revise_scan(
     hit_range,
     new_evidence,
     gone_evidence,
+    write_new,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
@@ -41,7 +42,7 @@ def revise_scan(
     and a boundary where the map knows free ground with no wall beside it each add one to the
     cell's ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is
     cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
-    boundary is made a wall, marked in ``new_walls`` (0: never). A reading that agrees with
+    boundary is made a wall, marked in ``new_walls`` (0 or not ``write_new``: never). A reading that agrees with
     a cell resets its count. Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
@@ -101,10 +102,10 @@ def revise_scan(
             hits[i, j] = 1
             changed += 1
             continue
-        if wall_beside(free, hits, i, j):
+        if walls_beside(free, hits, new_walls, i, j):
             if stamp[i, j] != scan_id:
                 change[i, j] = 0  # a boundary where the map holds one
-        elif new_evidence > 0 and stamp[i, j] != scan_id:
+        elif new_evidence > 0 and write_new and stamp[i, j] != scan_id:
             stamp[i, j] = scan_id
             change[i, j] += 1
             if change[i, j] >= new_evidence:  # a new wall

@@ -79,11 +79,23 @@ class LocalisationConfig(Section):
     the estimate, over the rays the map can judge with short readings left out, is at least this:
     rays through the walls it holds, which only a wrong place (or a removed wall) explains, are
     rare. A map revised from a wrong place would drift with the estimate."""
+    new_wall_agreement: float = param(0.95, ge=-1, le=1)
+    """The same threshold for the map also to gain walls (from boundaries where it knows free ground,
+    and from bumps); above ``revise_agreement``: only a scan that crosses no wall the map holds may
+    write one. Misplaced by a metre or so among new blocks, the robot sees walls of the map through
+    the gaps between them; a map that gained walls from such scans would fit the wrong place next
+    time. Walls that are gone are still cleared at ``revise_agreement``: rays through them are the
+    evidence."""
     short_weight: float = param(0.25, ge=0, le=1)
     """In runs, how much a reading shorter than the map predicts (a boundary on ground the map
     knows free) counts in the scan's fit, against 1 for a ray through a wall: the beam model's
     "short" readings, explained by an obstacle the map does not hold yet as well as by a wrong
     place (1: a new obstacle counts fully against the place; 0: not at all)."""
+    new_wall_weight: float = param(0.5, ge=0, le=1)
+    """In runs, how much a reading ending by a wall the map wrote in a run (:attr:`ExplorationMap.new_walls`)
+    counts for a place, against 1 for a wall from the dry run: such walls come and go (the blocks of
+    an earlier layout may linger in the map), and blocks on a grid repeat, so a place a block's width
+    off can fit them as well as the true one."""
 
 
 class Localisation:
@@ -111,7 +123,7 @@ class Localisation:
         self.look_alike_fit = np.empty(0)  # running means of the scan's fit there
         self.own_fit = 1.0  # the same at the estimate, from its value when they were picked
         self._candidates: np.ndarray | None = None  # walkable map places, cached while the map does not change
-        # the estimate's fit as well_placed judges it, worked out by check's ray march, and what it was for (_key)
+        # the estimate's fit as placement judges it, worked out by check's ray march, and what it was for (_key)
         self._judged = np.empty(1)
         self._judged_fit = 1.0
         self._judged_key: tuple[Any, ...] | None = None
@@ -122,17 +134,26 @@ class Localisation:
         """Anchored, and the scan fits the map well enough for the cells to learn."""
         return self.pi.anchored and self.fit >= self.config.learn_agreement
 
-    def well_placed(self, ranges: np.ndarray, heading: float) -> bool:
-        """Trusted, and the scan at the estimate crosses few walls of the map (``revise_agreement``):
-        the map may be revised from this scan."""
+    def placement(self, ranges: np.ndarray, heading: float) -> tuple[bool, bool]:
+        """(whether the map may be revised from this scan, whether it may also gain walls): trusted,
+        and the scan at the estimate crosses few walls of the map (``revise_agreement``), or, for new
+        walls, fewer still (``new_wall_agreement``)."""
         if not self.trusted:
-            return False
+            return False, False
         fit = self._judged_fit if ranges is self._judged_ranges and self._judged_key == self._key(heading) else None
         if fit is None:
             fit = float(
-                self.map.scan_agreement(self.pi.estimate[None, :], heading, ranges, self.max_range, short_weight=0.0, judged_only=True)[0]
+                self.map.scan_agreement(
+                    self.pi.estimate[None, :],
+                    heading,
+                    ranges,
+                    self.max_range,
+                    short_weight=0.0,
+                    judged_only=True,
+                    new_wall_weight=self.config.new_wall_weight,
+                )[0]
             )
-        return fit >= self.config.revise_agreement
+        return fit >= self.config.revise_agreement, fit >= self.config.new_wall_agreement
 
     def _key(self, heading: float) -> tuple[Any, ...]:
         """What a fit at the estimate depends on, besides the scan's ranges: heading, estimate, the map's state."""
@@ -183,8 +204,17 @@ class Localisation:
         self, points: np.ndarray, heading: float, ranges: np.ndarray, around: np.ndarray | None = None, judged: np.ndarray | None = None
     ) -> np.ndarray:
         """The beam model's fit of the scan to the map from each of ``points`` (:meth:`ExplorationMap.scan_agreement`;
-        ``judged``: the first place's fit as :meth:`well_placed` judges it, from the same ray march)."""
-        return self.map.scan_agreement(points, heading, ranges, self.max_range, around, self.config.short_weight, judged=judged)
+        ``judged``: the first place's fit as :meth:`placement` judges it, from the same ray march)."""
+        return self.map.scan_agreement(
+            points,
+            heading,
+            ranges,
+            self.max_range,
+            around,
+            self.config.short_weight,
+            judged=judged,
+            new_wall_weight=self.config.new_wall_weight,
+        )
 
     def _walkable(self) -> np.ndarray:
         if self._candidates is None:  # (the map does not change while the robot is lost)

@@ -187,7 +187,13 @@ class ExplorationMap:
         mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
 
     def revise(
-        self, position: np.ndarray, heading: float, ranges: np.ndarray, max_range: float, search_radius: float | None = None
+        self,
+        position: np.ndarray,
+        heading: float,
+        ranges: np.ndarray,
+        max_range: float,
+        search_radius: float | None = None,
+        write_new: bool = True,
     ) -> None:
         """Enter a run's scan seen from ``position`` as :meth:`observe` does with ``unknown_only``,
         and revise what the map holds where the scan keeps disagreeing with it: a boundary on free
@@ -203,7 +209,7 @@ class ExplorationMap:
         if revise_scan(
             self.free, self.hits, self.new_walls, self.change, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
-            self.hit_range, new or 0, gone or 0,
+            self.hit_range, new or 0, gone or 0, bool(write_new),
         ):  # fmt: skip
             self.revision += 1
         self.mark(position, search_radius)
@@ -248,6 +254,7 @@ class ExplorationMap:
         short_weight: float = 1.0,
         judged_only: bool = False,
         judged: np.ndarray | None = None,
+        new_wall_weight: float = 1.0,
     ) -> np.ndarray:
         """How well a scan seen from each of ``points`` (an (n, 2) array, frame metres) fits the
         map, in [-1, 1]: per ray, -1 if it passed through a wall the map holds; else, for a ray
@@ -270,6 +277,8 @@ class ExplorationMap:
         wall, which nothing but a wrong place (or a wall since removed) explains. A ray through a
         wall written in a run (:attr:`new_walls`: a new obstacle, seen or bumped into) does not
         count against a place: such walls come and go (the blocks of one layout gone in the next).
+        For the same reason a ray ending by such a wall, and by no wall from the dry run, weighs
+        ``new_wall_weight`` (for the place, as a hit does).
         ``judged_only``: rays ending where the map knows nothing are left out, and a place where no
         ray is judged fits 1 (nothing the map holds says it is wrong).
 
@@ -281,7 +290,7 @@ class ExplorationMap:
         scan_agreement(
             self.free, self.hits, self.new_walls, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
             self.cell, self._inv_cell, self.hit_range, float(short_weight), bool(judged_only), out,
-            _NO_JUDGED if judged is None else judged,
+            _NO_JUDGED if judged is None else judged, float(new_wall_weight),
         )  # fmt: skip
         return out
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 import datetime
 import gzip
-import importlib.metadata
 import json
 import math
 import re
@@ -266,15 +265,9 @@ def agent_config(agent: Any) -> dict[str, Any] | None:
 
 def versions() -> dict[str, str | None]:
     """Python's version and those of the packages a job's numbers depend on (None: not installed)."""
-    import platform
+    from hippo_env.dmtp import package_versions
 
-    found: dict[str, str | None] = {"python": platform.python_version()}
-    for package in ("hippomaze", "gymnasium", "numpy", "pymunk", "numba", "torch", "stable-baselines3"):
-        try:
-            found[package] = importlib.metadata.version(package)
-        except importlib.metadata.PackageNotFoundError:
-            found[package] = None
-    return found
+    return package_versions(("gymnasium", "numpy", "pymunk", "numba", "torch", "stable-baselines3"))
 
 
 #: Built-in agents whose parameters :func:`current_config` knows without building one.
