@@ -96,9 +96,19 @@ def machine_info(**versions: str) -> dict[str, Any]:
 
 
 def command_line(root: str | Path = ".") -> str:
-    """The command that ran this script, with the script's path relative to ``root``."""
+    """The command that ran this script, as one runs it from ``root``: ``python -m package.module``
+    for a module of a package there (run as a file, its imports of the package would fail), else
+    ``python`` and the script's path relative to ``root``."""
     script = Path(sys.argv[0])
     shown = os.path.relpath(script, root) if script.is_absolute() else sys.argv[0]
+    relative = Path(shown)
+    if (
+        relative.suffix == ".py"
+        and not relative.is_absolute()
+        and ".." not in relative.parts
+        and (Path(root) / relative.parent / "__init__.py").exists()
+    ):
+        return shlex.join(["python", "-m", ".".join(relative.with_suffix("").parts), *sys.argv[1:]])
     return shlex.join(["python", shown, *sys.argv[1:]])
 
 
