@@ -63,13 +63,8 @@ def probe(args: DoorArgs) -> dict[str, Any]:
     first_door_run = sum(p.get("runs", 4) for p in schedule["phases"][:door_phase])
     before = maze_spec(args.maze)
     factory = agent_factory("hippo")
-    watched: list[Watched] = []
     cells: dict[str, Any] = {}
     at_start: list[dict[str, Any]] = []
-
-    def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
-        watched.append(Door(factory(observation_space, action_space, seed=seed)))
-        return watched[-1]
 
     class Door(Watched):
         def reset(self, observation: Any, info: dict[str, Any]) -> None:
@@ -92,6 +87,9 @@ def probe(args: DoorArgs) -> dict[str, Any]:
                 walls = (m.hits[i, j] > 0) & (m.hits[i, j] >= m.free[i, j])
                 at_start.append({"walls": int(walls.sum()), "counts": m.change[i, j].astype(int).tolist()})
             super().reset(observation, info)
+
+    def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
+        return Door(factory(observation_space, action_space, seed=seed))
 
     make.env_kwargs = getattr(factory, "env_kwargs", {})  # type: ignore[attr-defined]
     result = run_dmtp(make, schedule=schedule, seed=args.seed, agent_name="hippo", progress=False)
