@@ -33,17 +33,45 @@ def agent_reset(env, agent, options):
 
 
 # ------------------------------------------------------------------ the memory
+def test_a_reward_found_far_from_the_memory_is_a_rival_until_it_outnumbers_it():
+    homing = bare_homing()
+    homing.remember(np.array([0.0, 0.0]))
+    homing.remember(np.array([0.2, 0.0]))
+    homing.remember(np.array([3.0, 0.0]))  # found while misplaced, say: the memory is not dragged off
+    np.testing.assert_allclose(homing.remembered(), [0.1, 0.0])
+    homing.remember(np.array([-3.0, 0.0]))  # farther than rival_radius from both: a new rival
+    assert homing.rival_count[-1] == 1.0
+    homing.remember(np.array([-3.2, 0.0]))
+    np.testing.assert_allclose(homing.remembered(), [0.1, 0.0])  # a tie keeps the memory
+    homing.remember(np.array([-3.1, 0.0]))  # the rival outnumbers it: the goal is there
+    np.testing.assert_allclose(homing.remembered(), [-3.1, 0.0])
+    np.testing.assert_allclose(homing.rival_sum[-1] / homing.rival_count[-1], [0.1, 0.0])
+    homing.forget()
+    assert homing.remembered() is None and homing.rival_count[-1] == 0.0
+
+
+def test_homing_memory_saved_before_rivals_loads_with_none():
+    homing = bare_homing()
+    homing.restore_memory({"found_sum": np.array([[1.0, 2.0]]), "found_count": np.array([1.0])})
+    np.testing.assert_allclose(homing.remembered(), [1.0, 2.0])
+    assert homing.rival_count.tolist() == [0.0] and homing.rival_sum.shape == (1, 2)
+    with pytest.raises(ValueError, match="found_count"):
+        homing.restore_memory({"found_sum": np.zeros((1, 2))})
+    with pytest.raises(ValueError, match="rival_sum"):
+        homing.restore_memory({"found_sum": np.zeros((1, 2)), "found_count": np.ones(1), "rival_sum": np.zeros((2, 2))})
+
+
 def test_homing_remembers_where_each_goal_was_found():
     homing = bare_homing()
     assert homing.remembered() is None
     homing.new_goal()
     assert homing.remembered() is None
     homing.remember(np.array([1.0, 2.0]))
-    homing.remember(np.array([2.0, 4.0]))
-    np.testing.assert_allclose(homing.remembered(), [1.5, 3.0])
+    homing.remember(np.array([1.4, 2.6]))
+    np.testing.assert_allclose(homing.remembered(), [1.2, 2.3])
     homing.new_goal()  # a new goal: nothing found yet, the old one kept
     assert homing.remembered() is None
-    np.testing.assert_allclose(homing.found_sum[0] / homing.found_count[0], [1.5, 3.0])
+    np.testing.assert_allclose(homing.found_sum[0] / homing.found_count[0], [1.2, 2.3])
     homing.remember(np.array([-1.0, 0.0]))
     homing.forget()  # the current goal's memory only
     assert homing.remembered() is None and homing.found_count.tolist() == [2.0, 0.0]

@@ -394,6 +394,11 @@ def test_a_boundary_seen_on_free_ground_becomes_a_new_wall_after_new_wall_eviden
     assert m.scan_agreement(np.zeros((1, 2)), 0.0, gone, 10.0)[0] == pytest.approx(1.0)
 
 
+def _pacing(k: int) -> np.ndarray:
+    """The robot's place at its ``k``-th scan: back and forth between two neighbouring cells."""
+    return np.array([-0.25 * (k % 2), 0.0])
+
+
 def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_a_ray_ends_by_it():
     config = MapConfig(extent=6.0, gone_wall_evidence=15)
     m = ExplorationMap(config)
@@ -401,18 +406,47 @@ def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_
     east = m.index(3.0, 0.0)
     assert _wall(m, east)
     farther = _ring(5.0)  # the wall gone: every ray goes on to 5 m
-    for _ in range(14):
-        m.revise(np.zeros(2), 0.0, farther, max_range=10.0)
+    for k in range(14):
+        m.revise(_pacing(k), 0.0, farther, max_range=10.0)
     assert _wall(m, east)  # 14 scans: still held
-    m.revise(np.zeros(2), 0.0, farther, max_range=10.0)
+    m.revise(_pacing(14), 0.0, farther, max_range=10.0)
     assert m.hits[east] == 0 and m.known_free[east]
     held = ExplorationMap(config)  # rays that end by the wall (it is there, only grazed) keep it
     held.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
     grazed = _ring(3.0)
     grazed[::20] = 5.0  # every other ray the map reads (one in 10, 5 degrees apart) passes, its neighbours end on the wall
-    for _ in range(30):
-        held.revise(np.zeros(2), 0.0, grazed, max_range=10.0)
+    for k in range(30):
+        held.revise(_pacing(k), 0.0, grazed, max_range=10.0)
     assert _wall(held, east)
+
+
+def test_a_robot_standing_still_counts_a_crossing_once():
+    """The same crossing seen again from the cell the robot stood in at the last count is no new
+    evidence (a robot turning on the spot, say, scans the same rays again)."""
+    m = ExplorationMap(MapConfig(extent=6.0, gone_wall_evidence=3))
+    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+    east = m.index(3.0, 0.0)
+    for _ in range(10):
+        m.revise(np.zeros(2), 0.0, _ring(5.0), max_range=10.0)
+    assert _wall(m, east) and m.change[east] == 1
+    m.revise(_pacing(1), 0.0, _ring(5.0), max_range=10.0)
+    m.revise(_pacing(2), 0.0, _ring(5.0), max_range=10.0)
+    assert m.hits[east] == 0
+
+
+def test_gone_range_lets_farther_rays_clear_a_wall_without_entering_farther_cells():
+    def after(gone_range: float) -> ExplorationMap:
+        m = ExplorationMap(MapConfig(extent=8.0, gone_wall_evidence=3, gone_range=gone_range))
+        m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)  # the wall at 3 m, seen from the centre
+        for k in range(3):  # then from 2 m west of it: the wall 5 m off, the scan reading 7 m
+            m.revise(np.array([-2.0 - 0.25 * (k % 2), 0.0]), 0.0, _ring(7.0), max_range=10.0)
+        return m
+
+    east = (3.0, 0.0)
+    assert _wall(after(4.0), after(4.0).index(*east))  # beyond free_range (4 m): no evidence
+    cleared = after(6.0)
+    assert not _wall(cleared, cleared.index(*east))
+    assert cleared.free[cleared.index(4.0, 0.0)] == 0  # 6 m from the robot: entered by no ray
 
 
 def test_without_evidence_settings_a_run_only_fills_in_the_unknown():
@@ -494,7 +528,7 @@ def test_a_revision_that_may_not_write_walls_still_clears_them():
     scan = _ring(5.0)  # the round wall gone ...
     scan[:5] = 1.0  # ... and something new 1 m east
     new, east = m.index(1.0, 0.0), m.index(-3.0, 0.0)
-    for _ in range(20):
-        m.revise(np.zeros(2), 0.0, scan, max_range=10.0, write_new=False)
+    for k in range(20):
+        m.revise(_pacing(k), 0.0, scan, max_range=10.0, write_new=False)
     assert not _wall(m, new) and not m.new_walls.any()
     assert m.hits[east] == 0 and m.known_free[east]

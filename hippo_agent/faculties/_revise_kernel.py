@@ -17,6 +17,7 @@ def revise_scan(
     hits,
     new_walls,
     change,
+    vantage,
     stamp,
     hit_stamp,
     scan_id,
@@ -30,6 +31,7 @@ def revise_scan(
     cell,
     inv_cell,
     free_range,
+    gone_range,
     hit_range,
     new_evidence,
     gone_evidence,
@@ -40,12 +42,16 @@ def revise_scan(
     through its middle (two samples in the cell, the ray ending at least a cell beyond, and no ray
     of the scan ending within a cell of it: a thin wall's cell is partly free, and rays graze it)
     and a boundary where the map knows free ground with no wall beside it each add one to the
-    cell's ``change`` count, at most once per scan (``stamp``); at ``gone_evidence`` the wall is
+    cell's ``change`` count, at most once per scan (``stamp``) and once per cell the robot stands
+    in (``vantage``, the flat index of the robot's cell at the last count: a robot standing still
+    sees the same crossing again, which is no new evidence); at ``gone_evidence`` the wall is
     cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
     boundary is made a wall, marked in ``new_walls`` (0 or not ``write_new``: never). A reading that agrees with
-    a cell resets its count. Returns how many cells changed."""
+    a cell resets its count. Rays enter cells up to ``free_range`` and cross walls up to
+    ``gone_range``. Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
+    here = _grid_index(x + extent, cell, inv_cell) * n + _grid_index(y + extent, cell, inv_cell)
     n_rays = ranges.size
     step = cell * 0.5
     for r in range(0, n_rays, stride):  # where this scan's rays end
@@ -60,7 +66,7 @@ def revise_scan(
         angle = heading + 2.0 * math.pi * r / n_rays
         c, s = math.cos(angle), math.sin(angle)
         d = float(ranges[r])
-        reach = min(d - step, free_range)
+        reach = min(d - step, max(free_range, gone_range))
         t = 0.0
         last_i, last_j, inside = -1, -1, 0
         while t < reach:
@@ -70,7 +76,9 @@ def revise_scan(
                 break
             if i != last_i or j != last_j:
                 last_i, last_j, inside = i, j, 0
-                if free[i, j] == 0 and hits[i, j] == 0:
+                if t >= free_range:
+                    pass  # beyond the range that enters cells: only a wall crossed counts
+                elif free[i, j] == 0 and hits[i, j] == 0:
                     free[i, j] = 1
                     changed += 1
                 elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
@@ -78,12 +86,16 @@ def revise_scan(
             inside += 1
             wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
             gone = new_evidence if new_walls[i, j] else gone_evidence
-            if wall and gone > 0 and inside == 2 and t + cell < d and stamp[i, j] != scan_id:
+            if wall and gone > 0 and inside == 2 and t + cell < d and t < gone_range and stamp[i, j] != scan_id:
                 stamp[i, j] = scan_id
                 if _hit_near(hit_stamp, i, j, scan_id):
                     change[i, j] = 0  # a ray ended by it: the wall is there
                     t += step
                     continue
+                if vantage[i, j] == here:  # crossed from this cell before
+                    t += step
+                    continue
+                vantage[i, j] = here
                 change[i, j] += 1
                 if change[i, j] >= gone:  # the wall is gone
                     hits[i, j] = 0

@@ -1,12 +1,13 @@
 """Homing: back to where the goal was found, and a search round that place.
 
 A faculty of the default model (``AgentConfig.homing``; it needs ``path_integration`` and
-``map``). At each reward the agent remembers its estimate (:meth:`Homing.remember`). In a later
-run of the same trial, within ``radius`` of the mean of those places, it heads there instead of
-preplaying: straight at it while the line to within ``approach_radius`` of it crosses walkable
-ground with a cell to spare on either side, else along the map's shortest walkable path to ground
-within ``approach_radius`` (the place, where the robot entered the goal disk, may lie by a wall),
-then straight on. Where the map knows no path, preplay steers.
+``map``). At each reward the agent remembers its estimate (:meth:`Homing.remember`; one found more
+than ``rival_radius`` from the others is kept apart, as a rival that takes over once found more
+often). In a later run of the same trial, within ``radius`` of the mean of those places, it heads
+there instead of preplaying: straight at it while the line to within ``approach_radius`` of it
+crosses walkable ground with a cell to spare on either side, else along the map's shortest
+walkable path to ground within ``approach_radius`` (the place, where the robot entered the goal
+disk, may lie by a wall), then straight on. Where the map knows no path, preplay steers.
 
 Arrived (within ``arrived``), or stopped by a wall on the last stretch, without the reward, it
 searches the ground within ``search_radius`` of the place afresh. If that search finds nothing, or
@@ -57,6 +58,9 @@ class HomingConfig(Section):
     to be at a look-alike place."""
     attempts: int = param(3, ge=1)
     """After this many failed searches in a run, the memory is given up for the rest of the run."""
+    rival_radius: float = param(1.0, gt=0)
+    """A reward found farther than this (m) from the remembered place is remembered apart, as a
+    rival place; the rival replaces the memory once more rewards were found there."""
 
 
 class Homing:
@@ -74,9 +78,12 @@ class Homing:
         self.map = map_
         self.pi = pi
         self.localisation = localisation
-        # per goal, the sum of the estimates at which the reward was found, and their count
+        # per goal, the sum of the estimates at which the reward was found, and their count; and
+        # the same for rewards found away from that place (a rival, module docstring)
         self.found_sum = np.zeros((0, 2))
         self.found_count = np.zeros(0)
+        self.rival_sum = np.zeros((0, 2))
+        self.rival_count = np.zeros(0)
         self.searching = False  # arrived without the reward: searching round the place
         self.failures = 0  # searches that found no reward, this run
         self.bumps = 0  # bumps while homing since the last failed search, this run
@@ -87,19 +94,69 @@ class Homing:
         """A new goal: nothing remembered of it yet."""
         self.found_sum = np.vstack([self.found_sum, np.zeros((1, 2))])
         self.found_count = np.append(self.found_count, 0.0)
+        self.rival_sum = np.vstack([self.rival_sum, np.zeros((1, 2))])
+        self.rival_count = np.append(self.rival_count, 0.0)
 
     def remember(self, where: np.ndarray) -> None:
-        """The current goal's reward was found at ``where`` (an estimate)."""
+        """The current goal's reward was found at ``where`` (an estimate): added to the memory's
+        mean if it lies within ``rival_radius`` of it, else to the rival's (started afresh if the
+        rival lies farther too). A rival with more rewards than the memory becomes the memory: a
+        reward found while misplaced does not drag the memory off (the mean of two places lies at
+        neither), and a memory written while misplaced is outvoted."""
         if self.found_count.size == 0:
             self.new_goal()
-        self.found_sum[-1] += where
-        self.found_count[-1] += 1.0
+        if self.found_count[-1] == 0 or self._near(self.found_sum[-1], self.found_count[-1], where):
+            self.found_sum[-1] += where
+            self.found_count[-1] += 1.0
+            return
+        if not self._near(self.rival_sum[-1], self.rival_count[-1], where):
+            self.rival_sum[-1], self.rival_count[-1] = 0.0, 0.0  # a rival elsewhere: start afresh here
+        self.rival_sum[-1] += where
+        self.rival_count[-1] += 1.0
+        if self.rival_count[-1] > self.found_count[-1]:
+            self.found_sum[-1], self.rival_sum[-1] = self.rival_sum[-1].copy(), self.found_sum[-1].copy()
+            self.found_count[-1], self.rival_count[-1] = self.rival_count[-1], self.found_count[-1]
+
+    def _near(self, total: np.ndarray, count: float, where: np.ndarray) -> bool:
+        """Whether ``where`` lies within ``rival_radius`` of the mean ``total / count`` (False if none)."""
+        return bool(count > 0) and _distance(*(total / count).tolist(), *where.tolist()) <= self.config.rival_radius
 
     def forget(self) -> None:
         """Forget where the current goal was found."""
         if self.found_count.size:
             self.found_sum[-1] = 0.0
             self.found_count[-1] = 0.0
+            self.rival_sum[-1] = 0.0
+            self.rival_count[-1] = 0.0
+
+    def memory(self) -> dict[str, np.ndarray]:
+        """Copies of the goal memories' arrays (what :meth:`restore_memory` takes)."""
+        return {name: getattr(self, name).copy() for name in _MEMORY}
+
+    def clear_memory(self) -> None:
+        """No goal remembered (a new world)."""
+        self.found_sum, self.found_count = np.zeros((0, 2)), np.zeros(0)
+        self.rival_sum, self.rival_count = np.zeros((0, 2)), np.zeros(0)
+
+    def restore_memory(self, arrays: dict[str, np.ndarray]) -> None:
+        """Set the goal memories from :meth:`memory`'s arrays (a memory saved before rivals were
+        kept has none)."""
+        missing = [name for name in _MEMORY[:2] if name not in arrays]
+        if missing:
+            raise ValueError(f"homing's arrays {missing} are missing (a goal memory needs {list(_MEMORY[:2])})")
+        found_sum = np.asarray(arrays["found_sum"], dtype=np.float64).reshape(-1, 2)
+        found_count = np.asarray(arrays["found_count"], dtype=np.float64).reshape(-1)
+        goals = len(found_count)
+        rival_sum = np.asarray(arrays.get("rival_sum", np.zeros((goals, 2))), dtype=np.float64).reshape(-1, 2)
+        rival_count = np.asarray(arrays.get("rival_count", np.zeros(goals)), dtype=np.float64).reshape(-1)
+        if not (len(found_sum) == goals == len(rival_sum) == len(rival_count)) or not all(
+            np.all(np.isfinite(a)) for a in (found_sum, found_count, rival_sum, rival_count)
+        ):
+            raise ValueError(
+                f"homing's arrays 'found_sum' ({len(found_sum)} places), 'found_count' ({goals}), 'rival_sum' "
+                f"({len(rival_sum)}) and 'rival_count' ({len(rival_count)}) do not match, or are not finite"
+            )
+        self.found_sum, self.found_count, self.rival_sum, self.rival_count = found_sum, found_count, rival_sum, rival_count
 
     def remembered(self) -> np.ndarray | None:
         """Where the current goal's reward was found, on average; ``None`` before it was found."""
@@ -192,21 +249,15 @@ class Homing:
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         """(JSON-able state, arrays): what :meth:`load_state` restores."""
-        return {"searching": self.searching, "failures": self.failures, "bumps": self.bumps}, {
-            "found_sum": self.found_sum,
-            "found_count": self.found_count,
-        }
+        return {"searching": self.searching, "failures": self.failures, "bumps": self.bumps}, self.memory()
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
-        found_sum = np.asarray(arrays["found_sum"], dtype=np.float64).reshape(-1, 2)
-        found_count = np.asarray(arrays["found_count"], dtype=np.float64).reshape(-1)
-        if len(found_sum) != len(found_count) or not (np.all(np.isfinite(found_sum)) and np.all(np.isfinite(found_count))):
-            raise ValueError(
-                f"homing's arrays 'found_sum' ({len(found_sum)} places) and 'found_count' ({len(found_count)}) do not match, or are not finite"
-            )
-        self.found_sum, self.found_count = found_sum, found_count
+        self.restore_memory(arrays)
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
+
+
+_MEMORY = ("found_sum", "found_count", "rival_sum", "rival_count")
 
 
 def _distance(tx: float, ty: float, x: float, y: float) -> float:

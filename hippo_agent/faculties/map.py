@@ -97,8 +97,12 @@ class MapConfig(Section):
     one at once (``None``: runs enter only cells the map knows nothing of)."""
     gone_wall_evidence: int | None = param(15, ge=1)
     """In runs, while the robot is well placed, a wall the map holds that rays cross in this many
-    scans in a row is cleared (``None``: never). More than for a new wall: a ray grazing a wall's
+    scans in a row, each from another cell than the last, is cleared (``None``: never). More than for a new wall: a ray grazing a wall's
     cell at a small error in the estimate crosses it too, and a wall wrongly cleared costs a bump."""
+    gone_range: float = param(4.0, gt=0)
+    """A ray crossing a wall the map holds counts toward clearing it up to this distance (m); above
+    ``free_range``, doors are seen from farther, and so are a thin wall's cells grazed at a small
+    error in the estimate (``benchmarks/results/gone_range/``)."""
 
 
 class ExplorationMap:
@@ -119,6 +123,7 @@ class ExplorationMap:
         self.visit_radius, self.search_radius = float(config.visit_radius), float(config.search_radius)
         self.lookahead_cells = max(1, round(lookahead / cell))
         self.free_range, self.hit_range = float(config.free_range), float(config.hit_range)
+        self.gone_range = float(config.gone_range)
         self.ray_stride_deg, self.agreement_stride_deg = float(config.ray_stride_deg), float(config.agreement_stride_deg)
         n = math.ceil(2 * self.extent / self.cell)
         self.n = n
@@ -130,6 +135,7 @@ class ExplorationMap:
         self.new_walls = np.zeros((n, n), dtype=np.bool_)
         # scans in a row that disagreed with a cell (revise), and the last scan that counted there
         self.change = np.zeros((n, n), dtype=np.uint16)
+        self.vantage = np.full((n, n), -1, dtype=np.int32)  # where the robot stood at a wall's last count (revise)
         self._scan_stamp = np.zeros((n, n), dtype=np.int32)
         self._hit_stamp = np.zeros((n, n), dtype=np.int32)  # the last scan with a ray ending in the cell
         self._scan_id = 0
@@ -207,9 +213,9 @@ class ExplorationMap:
         stride = max(1, round(ranges.size * self.ray_stride_deg / 360.0))
         self._scan_id += 1
         if revise_scan(
-            self.free, self.hits, self.new_walls, self.change, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
+            self.free, self.hits, self.new_walls, self.change, self.vantage, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
-            self.hit_range, new or 0, gone or 0, bool(write_new),
+            self.gone_range, self.hit_range, new or 0, gone or 0, bool(write_new),
         ):  # fmt: skip
             self.revision += 1
         self.mark(position, search_radius)
@@ -487,9 +493,9 @@ class ExplorationMap:
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
-        for name in ("change", "new_walls"):  # (a save from before the map revised itself)
+        for name in ("change", "new_walls", "vantage"):  # (a save from before the map revised itself)
             if name not in arrays:
-                arrays = {**arrays, name: np.zeros_like(getattr(self, name))}
+                arrays = {**arrays, name: np.full_like(getattr(self, name), -1 if name == "vantage" else 0)}
         for name in _GRIDS:
             ref, arr = getattr(self, name), arrays.get(name)
             if arr is None or arr.shape != ref.shape:
@@ -498,5 +504,5 @@ class ExplorationMap:
         self.grids_replaced()
 
 
-_GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls")
+_GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls", "vantage")
 _NO_JUDGED = np.empty(0)  # scan_agreement's judged, not asked for

@@ -159,7 +159,7 @@ class Worlds:
         reward.reset_effective()
         self.model.goal_rewarded = False
         if self.homing is not None:
-            self.homing.found_sum, self.homing.found_count = np.zeros((0, 2)), np.zeros(0)
+            self.homing.clear_memory()
         self.current = self.count
         self.count += 1
 
@@ -178,7 +178,7 @@ class Worlds:
         arrays["reward.W_rp"] = self.model.reward.W_rp.copy()
         arrays["model.goal_rewarded"] = np.array(self.model.goal_rewarded)
         if self.homing is not None:
-            arrays["homing.found_sum"], arrays["homing.found_count"] = self.homing.found_sum.copy(), self.homing.found_count.copy()
+            arrays.update({f"homing.{name}": a for name, a in self.homing.memory().items()})
         return arrays
 
     def _put_back(self, arrays: dict[str, np.ndarray]) -> None:
@@ -199,7 +199,7 @@ class Worlds:
         reward.reset_effective()
         self.model.goal_rewarded = bool(arrays["model.goal_rewarded"])
         if self.homing is not None and "homing.found_sum" in arrays:
-            self.homing.found_sum, self.homing.found_count = arrays["homing.found_sum"].copy(), arrays["homing.found_count"].copy()
+            self.homing.restore_memory({name[len("homing.") :]: a.copy() for name, a in arrays.items() if name.startswith("homing.")})
 
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
