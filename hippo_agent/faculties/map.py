@@ -97,8 +97,9 @@ class MapConfig(Section):
     one at once (``None``: runs enter only cells the map knows nothing of)."""
     gone_wall_evidence: int | None = param(15, ge=1)
     """In runs, while the robot is well placed, a wall the map holds that rays cross in this many
-    scans in a row, each from another cell than the last, is cleared (``None``: never). More than for a new wall: a ray grazing a wall's
-    cell at a small error in the estimate crosses it too, and a wall wrongly cleared costs a bump."""
+    scans in a row, each from another cell than the last, is cleared (``None``: never). More than
+    for a new wall: a ray grazing a wall's cell at a small error in the estimate crosses it too,
+    and a wall wrongly cleared costs a bump."""
     gone_range: float = param(4.0, gt=0)
     """A ray crossing a wall the map holds counts toward clearing it up to this distance (m); above
     ``free_range``, doors are seen from farther, and so are a thin wall's cells grazed at a small
