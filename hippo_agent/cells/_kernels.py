@@ -196,6 +196,15 @@ def advance(s, v, Wb, b_inhibition, Gamma_pp, extra, has_extra, k, psi, s_out, v
 
 
 @njit(cache=True, error_model="numpy")
+def sense_step(W_bp, b, Gamma_pb, Gamma_pp, k, psi, s, v, Wb, s_out, v_out):  # pragma: no cover - compiled
+    """:func:`bvc_drive` into ``Wb``, then :func:`advance` with that drive and no extra input:
+    one call for the BVC-only update of a step. Returns ``sum(b)``."""
+    b_sum = bvc_drive(W_bp, b, Wb)
+    advance(s, v, Wb, Gamma_pb * b_sum, Gamma_pp, s, False, k, psi, s_out, v_out)
+    return b_sum
+
+
+@njit(cache=True, error_model="numpy")
 def centre_drive(
     centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, out
 ):  # pragma: no cover - compiled

@@ -158,8 +158,12 @@ class PlaceCells:
     def step_sense(self, b: np.ndarray) -> None:
         """One update of the response to the BVC rates ``b`` alone (``s_sense``, ``v_sense``);
         :meth:`step_driven` then updates the rates with the same ``b``."""
-        self._drive = self._bvc_drive(b)
-        self.s_sense, self.v_sense = self._advance(self.s_sense, self.v_sense, *self._drive)
+        Wb, s, v = np.empty(self.n), np.empty(self.n), np.empty(self.n)
+        b_sum = _kernels.sense_step(
+            self.W_bp, np.asarray(b, dtype=np.float64), self.Gamma_pb, self.Gamma_pp, self.k, self.psi, self.s_sense, self.v_sense, Wb, s, v
+        )
+        self._drive = Wb, b_sum
+        self.s_sense, self.v_sense = s, v
 
     def step_driven(self, extra: np.ndarray | None) -> None:
         """One update of the rates with the BVC rates given to :meth:`step_sense` and the extra
