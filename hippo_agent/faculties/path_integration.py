@@ -168,6 +168,13 @@ class PathIntegrator:
         self.spread = np.zeros(n_place)
         self.spread_mass = np.zeros(n_place)
         self._vote = (np.empty(n_place), np.empty((n_place, 2)), np.empty(n_place))  # scratch for the vote
+        two_var = 2.0 * c.sigma * c.sigma
+        # beyond this squared distance the Gaussian is below threshold * 2^-54 (with a margin of a factor e
+        # for exp's rounding), less than half a float's spacing at the threshold: subtracting it leaves
+        # -threshold exactly, so it is not computed
+        negligible_sq = two_var * (54.0 * math.log(2.0) - math.log(c.threshold) + 1.0) if c.threshold > 0.0 else math.inf
+        # drive()'s constants, as centre_drive takes them after the position (the config is frozen)
+        self._drive_constants = (two_var, c.gain, c.threshold, c.field_radius * c.field_radius, c.far_inhibition, negligible_sq)
 
     def grow(self, extra: int) -> None:
         """Room for ``extra`` more place cells, without centres."""
@@ -183,26 +190,9 @@ class PathIntegrator:
         ``gain * (exp(-|p - c_i|^2 / 2 sigma^2) - threshold)`` for cells with a centre ``c_i``,
         less ``far_inhibition`` beyond ``field_radius`` from it; 0 for the others (they stay free
         to take new places)."""
-        c = self.config
         out = np.empty(self.centre_mass.size)
-        two_var = 2.0 * c.sigma * c.sigma
-        # beyond this squared distance the Gaussian is below threshold * 2^-54 (with a margin of a factor e
-        # for exp's rounding), less than half a float's spacing at the threshold: subtracting it leaves
-        # -threshold exactly, so it is not computed
-        negligible_sq = two_var * (54.0 * math.log(2.0) - math.log(c.threshold) + 1.0) if c.threshold > 0.0 else math.inf
         where = self.estimate if position is None else np.asarray(position, dtype=np.float64)
-        _kernels.centre_drive(
-            self.centres,
-            self.centre_mass,
-            where,
-            two_var,
-            c.gain,
-            c.threshold,
-            c.field_radius * c.field_radius,
-            c.far_inhibition,
-            negligible_sq,
-            out,
-        )
+        _kernels.centre_drive(self.centres, self.centre_mass, where, *self._drive_constants, out)
         return out
 
     def learn_centres(self, place: PlaceCells) -> None:
