@@ -189,9 +189,10 @@ class ExplorationMap:
 
     def mark(self, position: np.ndarray, search_radius: float | None = None) -> None:
         """Mark the ground round ``position`` visited, and searched within ``search_radius`` (by default the map's)."""
-        mark_disk(self.visited, float(position[0]), float(position[1]), self.visit_radius, self.extent, self.cell)
+        x, y = float(position[0]), float(position[1])
+        mark_disk(self.visited, x, y, self.visit_radius, self.extent, self.cell)
         radius = self.search_radius if search_radius is None else float(search_radius)
-        mark_disk(self.searched, float(position[0]), float(position[1]), radius, self.extent, self.cell)
+        mark_disk(self.searched, x, y, radius, self.extent, self.cell)
 
     def revise(
         self,
