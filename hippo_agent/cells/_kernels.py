@@ -37,18 +37,22 @@ def _tanh_positive(x):  # pragma: no cover - compiled
 @njit(cache=True, error_model="numpy")
 def oja_active_rows(W_bp, v, b, eta, alpha):  # pragma: no cover - compiled
     """Eq. 5 on the weights onto the active cells (``v_i > 0``; for the others the update is
-    exactly 0), ``W_bp[c, i]`` float32 BVC-first, in float64, flushing results below 1e-12 to 0."""
+    exactly 0), ``W_bp[c, i]`` float32 BVC-first, in float64, flushing results below 1e-12 to 0.
+    A cell's weights are copied out of their column into ``w`` and back: on a contiguous copy the
+    update, with its division, runs in vector registers."""
+    w = np.empty(b.size)
     for i in range(v.size):
         va = v[i]
         if not va > 0.0:
             continue
         eta_va = eta * va
         for c in range(b.size):
-            w = np.float64(W_bp[c, i])
-            x = w + eta_va * (b[c] - va * w / alpha)
-            if x < 1e-12:
-                x = 0.0
-            W_bp[c, i] = np.float32(x)
+            w[c] = np.float64(W_bp[c, i])
+        for c in range(b.size):
+            x = w[c] + eta_va * (b[c] - va * w[c] / alpha)
+            w[c] = 0.0 if x < 1e-12 else x
+        for c in range(b.size):
+            W_bp[c, i] = np.float32(w[c])
 
 
 @njit(cache=True, error_model="numpy")
