@@ -52,6 +52,9 @@ class ChangingWorldArgs:
     """output JSON ('' = benchmarks/results/changing_world.json)"""
     write_reference: bool = False
     """also write the summary as the reference hippomaze bench --changing-world compares with"""
+    forget_new_walls: bool = False
+    """PRIVILEGED, a diagnosis only: the agents' maps forget the walls their runs wrote whenever a new
+    layout begins (no block of an earlier layout lingers; the agent is still not told of the change)"""
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -62,8 +65,10 @@ def main(argv: list[str] | None = None) -> None:
     for agent in args.agents:
         agent_factory(agent, **(json.loads(args.config) if args.config else {}))  # an unknown agent or field fails now, not in a worker
     overrides = json.loads(args.config) if args.config else {}
+    if args.forget_new_walls and args.write_reference:
+        raise SystemExit("--forget-new-walls is a privileged diagnosis: it cannot write the bench's reference")
     jobs = [
-        (agent, seed, task, maze, overrides)
+        (agent, seed, task, maze, overrides, args.forget_new_walls)
         for agent in args.agents
         for seed in args.seeds
         for task in args.tasks
@@ -83,6 +88,7 @@ def main(argv: list[str] | None = None) -> None:
         "machine": machine_info(),
         "load_start": load_start,
         "load_end": load_average(),
+        "forget_new_walls": args.forget_new_walls,
         "targets": {name: {"what": target(name).what, "target": target(name).text()} for name in TARGET_NAMES},
         "summary": summary,
         "rows": rows,

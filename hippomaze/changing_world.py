@@ -33,6 +33,7 @@ from hippo_env.dmtp import DMTPFailed, run_dmtp
 from hippo_env.generate import generate_maze
 from hippo_env.maze import MazeSpec
 from hippo_env.physics import ROBOT_RADIUS
+from hippo_env.schedule import Schedule
 from hippomaze.registry import agent_factory
 from hippomaze.stats import median_or_none
 
@@ -122,10 +123,11 @@ class Watched:
     """An agent passed through, with each run step's position error (PRIVILEGED, read from the
     env's ``info["position"]``; the frame's origin is where the agent's first dry run began)."""
 
-    def __init__(self, agent: Any) -> None:
+    def __init__(self, agent: Any, forget_at: frozenset[int] = frozenset()) -> None:
         self.agent = agent
         self.origin: np.ndarray | None = None
         self.runs: list[dict[str, int]] = []  # per run: steps, anchored steps, those within tolerance, those off the map
+        self.forget_at = forget_at  # PRIVILEGED: runs (0-based) before which the map forgets the walls runs wrote
 
     def dry_run(self, env: Any) -> None:
         def first(info: dict[str, Any]) -> None:
@@ -142,6 +144,8 @@ class Watched:
             start_trial(trial)
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
+        if len(self.runs) in self.forget_at:
+            self.agent.map.forget_new_walls()
         estimates = getattr(self.agent, "pi", None) is not None  # (an agent with no estimate has no position figures)
         self.runs.append({"steps": 0, **({"anchored": 0, "placed": 0, "off_map": 0} if estimates else {})})
         self.agent.reset(observation, info)
@@ -163,22 +167,29 @@ class Watched:
 
 
 # ------------------------------------------------------------------ one job
-def run_task(agent: str, seed: int, task: str, maze: str = "", overrides: dict[str, Any] | None = None) -> dict[str, Any]:
-    """One schedule run for one agent and seed: its run records and the position figures."""
+def run_task(
+    agent: str, seed: int, task: str, maze: str = "", overrides: dict[str, Any] | None = None, forget_new_walls: bool = False
+) -> dict[str, Any]:
+    """One schedule run for one agent and seed: its run records and the position figures.
+    ``forget_new_walls`` (PRIVILEGED, a diagnosis only: the agent is not told the layout changed):
+    the agent's map forgets the walls its runs wrote whenever a new layout begins, so that no block
+    of an earlier layout lingers in it."""
     began = time.process_time()
-    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}
+    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}[task]()
     factory = agent_factory(agent, **(overrides or {}))
     watchers: list[Watched] = []
+    runs_per_phase = [phase.trials * phase.runs for phase in Schedule(schedule["phases"]).phases]
+    forget_at = frozenset(np.cumsum(runs_per_phase)[:-1].tolist()) if forget_new_walls else frozenset()
 
     def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
-        watchers.append(Watched(factory(observation_space, action_space, seed=seed)))
+        watchers.append(Watched(factory(observation_space, action_space, seed=seed), forget_at))
         return watchers[-1]
 
     make.env_kwargs = getattr(factory, "env_kwargs", {})  # type: ignore[attr-defined]
 
     error = None
     try:
-        result = run_dmtp(make, schedule=schedule[task](), seed=seed, agent_name=agent, progress=False)
+        result = run_dmtp(make, schedule=schedule, seed=seed, agent_name=agent, progress=False)
     except DMTPFailed as failed:  # (a change that cannot keep clear of the goal drawn, say): the runs so far
         result, error = failed.result, str(failed)
     runs = [dataclasses.asdict(r) for r in result.run_records]
@@ -236,6 +247,16 @@ def layout_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
+def by_layout(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """:func:`layout_measures` of each changed layout apart, by its phase's name (``"18 blocks"``,
+    ``"door"``), in the order they first come."""
+    names = dict.fromkeys(row["phases"][r["phase"]] for row in rows for r in row["runs"] if r["phase"] > 0)
+    return {
+        name: layout_measures([{**row, "runs": [r for r in row["runs"] if r["phase"] > 0 and row["phases"][r["phase"]] == name]} for row in rows])
+        for name in names
+    }
+
+
 def shortcut_measures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     """Door layouts: of the runs after the first whose door shortened the way by at least 30 %,
     the share at most 0.5 indirect against the new geodesic (a failed run counts as not taken)."""
@@ -278,11 +299,13 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         worlds = [r for r in mine if r["task"] == "worlds"]
         if barriers:
             entry["barriers"] = layout_measures(barriers)
+            entry["barriers_by_layout"] = by_layout(barriers)
         if mazes:
             entry["mazes"] = {
                 "all": layout_measures(mazes),
                 **{m: layout_measures([r for r in mazes if r["maze"] == m]) for m in dict.fromkeys(r["maze"] for r in mazes)},
             }
+            entry["mazes_by_change"] = by_layout(mazes)
             entry["shortcut"] = shortcut_measures(mazes)
         if worlds:
             entry["worlds"] = worlds_measures(worlds)

@@ -11,6 +11,7 @@ from hippomaze.bench.changing import table
 from hippomaze.changing_world import (
     WORLDS_SCHEDULE,
     barriers_schedule,
+    by_layout,
     layout_measures,
     maze_schedule,
     shortcut_measures,
@@ -75,10 +76,23 @@ def test_worlds_measures_count_a_missed_return_as_infinitely_indirect():
     assert m["first_visit_runs_2_4_median"] == pytest.approx(0.15) and m["new_goal_back_runs_2_4_median"] == 0.3
 
 
+def test_by_layout_measures_each_changed_layout_apart_by_name():
+    placed = {"steps": 4, "anchored": 4, "off_map": 0}
+    rows = [
+        {"phases": ["learn", "8 blocks", "18 blocks"], "runs": [run(0, 0, True, 1.0), run(1, 0, True, 0.2, placed=4, **placed), run(2, 0, False, 2.0, placed=1, **placed)]},
+        {"phases": ["learn", "8 blocks", "18 blocks"], "runs": [run(1, 0, False, 2.0, placed=2, **placed), run(2, 0, True, 0.5, placed=3, **placed)]},
+    ]
+    m = by_layout(rows)
+    assert list(m) == ["8 blocks", "18 blocks"]
+    assert m["8 blocks"]["layouts"] == 2 and m["8 blocks"]["success"] == 0.5 and m["8 blocks"]["position_within_0_5m"] == 0.75
+    assert m["18 blocks"]["median_indirectness_of_successes"] == 0.5 and m["18 blocks"]["position_within_0_5m"] == 0.5
+
+
 def test_summaries_per_agent_and_the_bench_table():
-    row = {"agent": "a", "task": "barriers", "maze": "", "runs": [run(1, 0, True, 0.2, steps=5, anchored=5, placed=5, off_map=0)]}
+    row = {"agent": "a", "task": "barriers", "maze": "", "phases": ["learn", "8 blocks"], "runs": [run(1, 0, True, 0.2, steps=5, anchored=5, placed=5, off_map=0)]}
     summary = summarise([row])
     assert summary["a"]["barriers"]["success"] == 1.0 and "mazes" not in summary["a"]
+    assert summary["a"]["barriers_by_layout"]["8 blocks"] == summary["a"]["barriers"]
     text = table(summary)
     assert text.splitlines()[0].startswith("| agent | blocks: first run") and "| a | 1.00 | 1.00 | 0.20 | 1.00 | - |" in text
 

@@ -532,3 +532,18 @@ def test_a_revision_that_may_not_write_walls_still_clears_them():
         m.revise(_pacing(k), 0.0, scan, max_range=10.0, write_new=False)
     assert not _wall(m, new) and not m.new_walls.any()
     assert m.hits[east] == 0 and m.known_free[east]
+
+
+def test_forgetting_the_walls_runs_wrote_keeps_the_dry_runs():
+    """``forget_new_walls``: a wall bumped into in a run goes; the walls the dry run mapped stay, and
+    searches made on the old grids are not reused (the revision moves on)."""
+    m = ExplorationMap(MapConfig(extent=8.0))
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=4.0), max_range=10.0)
+    dry_walls = (m.hits > 0) & (m.hits >= m.free)
+    m.mark_bump(np.array([1.0, 0.0]), 0.0, 0.3, new=True)
+    assert m.new_walls.sum() == 1 and m.wall_near(np.array([1.0, 0.0]), 0.0, 0.3)
+    revision = m.revision
+    m.forget_new_walls()
+    assert not m.new_walls.any() and m.revision > revision
+    assert not m.wall_near(np.array([1.0, 0.0]), 0.0, 0.3)
+    np.testing.assert_array_equal((m.hits > 0) & (m.hits >= m.free), dry_walls)

@@ -228,6 +228,15 @@ class ExplorationMap:
         mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
         self.searched[inside] = False
 
+    def forget_new_walls(self) -> None:
+        """Clear every wall written in a run (:attr:`new_walls`): the map as the dry run left it,
+        less the walls runs found gone, plus the ground runs entered."""
+        self.free[self.new_walls] = np.maximum(self.free[self.new_walls], 1)
+        self.hits[self.new_walls] = 0
+        self.change[self.new_walls] = 0
+        self.new_walls[:] = False
+        self.grids_replaced()
+
     def mark_bump(self, position: np.ndarray, heading: float, distance: float, new: bool = False) -> None:
         """A bump: the cell ``distance`` ahead is a wall, whatever the rays said (``new``: a wall
         written in a run, which the world may take away again)."""
