@@ -5,8 +5,10 @@ shortcut opened, and several worlds in turn, for the project's agents.
 per agent and runner seed, the tasks of :mod:`hippomaze.changing_world` (``barriers``: blocks
 round a known goal in the open arena; ``mazes``: blocks, a detour and a door in maze1..maze4 and
 generated 10-20 m mazes; ``worlds``: maze1, maze3, maze2 and back) and writes their measures, per
-agent over seeds, to ``benchmarks/results/changing_world.json`` with the targets they answer.
-``benchmarks.world_figures`` draws the figures.
+agent over seeds, to ``benchmarks/results/changing_world.json`` with the targets they answer,
+and each changed layout's apart (``barriers_by_layout``, ``mazes_by_change``).
+``benchmarks.world_figures`` draws the figures. ``--forget-new-walls`` (privileged, a diagnosis)
+makes the agents' maps forget the walls their runs wrote whenever a new layout begins.
 """
 
 from __future__ import annotations
