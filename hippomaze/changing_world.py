@@ -175,7 +175,9 @@ def run_task(
     the agent's map forgets the walls its runs wrote whenever a new layout begins, so that no block
     of an earlier layout lingers in it."""
     began = time.process_time()
-    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}[task]()
+    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}[
+        task
+    ]()
     factory = agent_factory(agent, **(overrides or {}))
     watchers: list[Watched] = []
     runs_per_phase = [phase.trials * phase.runs for phase in Schedule(schedule["phases"]).phases]
@@ -252,7 +254,9 @@ def by_layout(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     ``"door"``), in the order they first come."""
     names = dict.fromkeys(row["phases"][r["phase"]] for row in rows for r in row["runs"] if r["phase"] > 0)
     return {
-        name: layout_measures([{**row, "runs": [r for r in row["runs"] if r["phase"] > 0 and row["phases"][r["phase"]] == name]} for row in rows])
+        name: layout_measures(
+            [{**row, "runs": [r for r in row["runs"] if r["phase"] > 0 and row["phases"][r["phase"]] == name]} for row in rows]
+        )
         for name in names
     }
 

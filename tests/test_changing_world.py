@@ -79,8 +79,14 @@ def test_worlds_measures_count_a_missed_return_as_infinitely_indirect():
 def test_by_layout_measures_each_changed_layout_apart_by_name():
     placed = {"steps": 4, "anchored": 4, "off_map": 0}
     rows = [
-        {"phases": ["learn", "8 blocks", "18 blocks"], "runs": [run(0, 0, True, 1.0), run(1, 0, True, 0.2, placed=4, **placed), run(2, 0, False, 2.0, placed=1, **placed)]},
-        {"phases": ["learn", "8 blocks", "18 blocks"], "runs": [run(1, 0, False, 2.0, placed=2, **placed), run(2, 0, True, 0.5, placed=3, **placed)]},
+        {
+            "phases": ["learn", "8 blocks", "18 blocks"],
+            "runs": [run(0, 0, True, 1.0), run(1, 0, True, 0.2, placed=4, **placed), run(2, 0, False, 2.0, placed=1, **placed)],
+        },
+        {
+            "phases": ["learn", "8 blocks", "18 blocks"],
+            "runs": [run(1, 0, False, 2.0, placed=2, **placed), run(2, 0, True, 0.5, placed=3, **placed)],
+        },
     ]
     m = by_layout(rows)
     assert list(m) == ["8 blocks", "18 blocks"]
@@ -89,7 +95,13 @@ def test_by_layout_measures_each_changed_layout_apart_by_name():
 
 
 def test_summaries_per_agent_and_the_bench_table():
-    row = {"agent": "a", "task": "barriers", "maze": "", "phases": ["learn", "8 blocks"], "runs": [run(1, 0, True, 0.2, steps=5, anchored=5, placed=5, off_map=0)]}
+    row = {
+        "agent": "a",
+        "task": "barriers",
+        "maze": "",
+        "phases": ["learn", "8 blocks"],
+        "runs": [run(1, 0, True, 0.2, steps=5, anchored=5, placed=5, off_map=0)],
+    }
     summary = summarise([row])
     assert summary["a"]["barriers"]["success"] == 1.0 and "mazes" not in summary["a"]
     assert summary["a"]["barriers_by_layout"]["8 blocks"] == summary["a"]["barriers"]
