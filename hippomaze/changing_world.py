@@ -175,9 +175,8 @@ def run_task(
     the agent's map forgets the walls its runs wrote whenever a new layout begins, so that no block
     of an earlier layout lingers in it."""
     began = time.process_time()
-    schedule = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}[
-        task
-    ]()
+    schedules = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}
+    schedule = schedules[task]()
     factory = agent_factory(agent, **(overrides or {}))
     watchers: list[Watched] = []
     runs_per_phase = [phase.trials * phase.runs for phase in Schedule(schedule["phases"]).phases]
