@@ -229,8 +229,9 @@ class ExplorationMap:
         self.searched[inside] = False
 
     def forget_new_walls(self) -> None:
-        """Clear every wall written in a run (:attr:`new_walls`): the map as the dry run left it,
-        less the walls runs found gone, plus the ground runs entered."""
+        """Make every wall a run wrote where the map held none (:attr:`new_walls`) free ground again:
+        what :mod:`hippomaze.changing_world`'s privileged ``forget_new_walls`` does when a new layout
+        begins, to measure what such walls cost once the world has changed again."""
         self.free[self.new_walls] = np.maximum(self.free[self.new_walls], 1)
         self.hits[self.new_walls] = 0
         self.change[self.new_walls] = 0
