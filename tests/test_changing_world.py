@@ -122,3 +122,13 @@ def test_a_failed_dmtp_run_pickles_as_a_runtime_error_with_its_message():
         run_dmtp(broken, maze="open", trials=1, runs=1, progress=False)
     again = pickle.loads(pickle.dumps(failed.value))
     assert type(again) is RuntimeError and "no agent today" in str(again)
+
+
+def test_the_by_layout_figure_is_drawn_from_a_summary(tmp_path):
+    from benchmarks.changing_world import plot_by_layout
+
+    measures = {"success": 1.0, "position_within_0_5m": 0.5, "median_indirectness_of_successes": 0.3}
+    summary = {"a": {"barriers_by_layout": {"8 blocks": measures}, "mazes_by_change": {"door": measures}}, "b": {"worlds": {}}}
+    path = tmp_path / "by_layout.png"
+    assert plot_by_layout(summary, path) and path.stat().st_size > 0
+    assert not plot_by_layout({"b": {"worlds": {}}}, tmp_path / "none.png") and not (tmp_path / "none.png").exists()
