@@ -547,3 +547,30 @@ def test_forgetting_the_walls_runs_wrote_keeps_the_dry_runs():
     assert not m.new_walls.any() and m.revision > revision
     assert not m.wall_near(np.array([1.0, 0.0]), 0.0, 0.3)
     np.testing.assert_array_equal((m.hits > 0) & (m.hits >= m.free), dry_walls)
+
+
+def test_a_search_is_reused_only_while_the_ground_it_looks_for_is_unchanged():
+    """The nearest ground not yet visited (or searched) is searched again only when the start cell,
+    the grids or that ground changed: at every step of a walk that marks ground, forgets what was
+    searched and starts runs, the answer is the one a map with no earlier search gives."""
+
+    def afresh(m: ExplorationMap, here: np.ndarray, this_run: bool) -> float | None:
+        twin = ExplorationMap(m.config)
+        twin.load_state(*m.state())
+        return twin.heading_to_unvisited(here, this_run=this_run)
+
+    m = ExplorationMap(MapConfig(extent=8.0))
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=4.0), max_range=10.0)
+    rng = np.random.default_rng(5)
+    here = np.zeros(2)
+    for step in range(120):
+        this_run = step % 3 == 0
+        heading = m.heading_to_unvisited(here, this_run=this_run)
+        assert heading == afresh(m, here, this_run)
+        if heading is not None and rng.random() < 0.7:  # (sometimes it stays where it is)
+            here = here + 0.15 * np.array([math.cos(heading), math.sin(heading)])
+        m.mark(here)
+        if step % 40 == 39:
+            m.new_run()
+        elif step % 25 == 24:
+            m.forget_searched_near(here, 1.0)

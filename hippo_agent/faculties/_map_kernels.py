@@ -196,14 +196,19 @@ def walkable_points(free, hits, stride, extent, cell, out):  # pragma: no cover 
 
 @njit(cache=True)
 def mark_disk(grid, x, y, radius, extent, cell):  # pragma: no cover - compiled
+    """Set the cells whose centres lie within ``radius`` of ``(x, y)``; returns how many of them were
+    not set before."""
     n = grid.shape[0]
     ci = (x + extent) / cell
     cj = (y + extent) / cell
     r = radius / cell
+    newly = 0
     for i in range(max(0, int(ci - r) - 1), min(n, int(ci + r) + 2)):
         for j in range(max(0, int(cj - r) - 1), min(n, int(cj + r) + 2)):
-            if (i + 0.5 - ci) ** 2 + (j + 0.5 - cj) ** 2 <= r * r:
+            if (i + 0.5 - ci) ** 2 + (j + 0.5 - cj) ** 2 <= r * r and not grid[i, j]:
                 grid[i, j] = True
+                newly += 1
+    return newly
 
 
 @njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)

@@ -158,11 +158,13 @@ class ExplorationMap:
         # counts the changes to what the grids say of a cell (known free, a wall): all the searches,
         # walkability and the scan's fit read of free and hits (a count that changes neither is not one)
         self.revision = 0
-        # the last search whose result the grids alone decide (to a cell, or into a disk with nothing
-        # done): its start cell, target, disk, squeeze and the grids' revision, and the cell found
-        # (its path back is in _parent until the next search)
+        # the last search whose result the grids and the ground it looks for decide (to a cell, to
+        # ground not yet visited or searched, into a disk): its start cell, target, disk, squeeze,
+        # the grids' revision and that ground's changes (_marks), and the cell found (its path back
+        # is in _parent until the next search)
         self._last_plan: tuple[Any, ...] | None = None
         self._last_found = -1
+        self._marks = 0  # changes to visited and searched, which a search for ground they do not hold depends on
 
     # ------------------------------------------------------------------ senses
     def observe(
@@ -190,9 +192,11 @@ class ExplorationMap:
     def mark(self, position: np.ndarray, search_radius: float | None = None) -> None:
         """Mark the ground round ``position`` visited, and searched within ``search_radius`` (by default the map's)."""
         x, y = float(position[0]), float(position[1])
-        mark_disk(self.visited, x, y, self.visit_radius, self.extent, self.cell)
         radius = self.search_radius if search_radius is None else float(search_radius)
-        mark_disk(self.searched, x, y, radius, self.extent, self.cell)
+        visited = mark_disk(self.visited, x, y, self.visit_radius, self.extent, self.cell)
+        searched = mark_disk(self.searched, x, y, radius, self.extent, self.cell)
+        if visited or searched:
+            self._marks += 1
 
     def revise(
         self,
@@ -227,6 +231,7 @@ class ExplorationMap:
         inside = np.zeros_like(self.searched)
         mark_disk(inside, float(centre[0]), float(centre[1]), float(radius), self.extent, self.cell)
         self.searched[inside] = False
+        self._marks += 1
 
     def forget_new_walls(self) -> None:
         """Make every wall a run wrote where the map held none (:attr:`new_walls`) free ground again:
@@ -257,8 +262,8 @@ class ExplorationMap:
         return bool(np.any((hits > 0) & (hits >= free)))
 
     def grids_replaced(self) -> None:
-        """Call after writing ``free`` or ``hits`` other than through :meth:`observe` and
-        :meth:`mark_bump` (as loading a saved agent does): searches made on the old grids, and the
+        """Call after writing ``free``, ``hits``, ``visited`` or ``searched`` other than through this
+        class's methods (as loading a saved agent does): searches made on the old grids, and the
         walkability they worked out, are not reused."""
         self.revision += 1
 
@@ -315,6 +320,7 @@ class ExplorationMap:
     def new_run(self) -> None:
         """Forget which cells were searched: a new run searches afresh."""
         self.searched[:] = False
+        self._marks += 1
 
     # ------------------------------------------------------------------ planning
     def heading_to_unvisited(self, position: np.ndarray, this_run: bool = False, squeeze: bool = False) -> float | None:
@@ -394,10 +400,11 @@ class ExplorationMap:
         plan: tuple[Any, ...] | None = None
         if disk is None and target >= 0:  # (known is not read)
             plan = (i, j, int(target), squeeze, self.revision)
-        elif disk is not None and known is self._nothing:
-            plan = (i, j, float(disk[0][0]), float(disk[0][1]), float(disk[1]), squeeze, self.revision)
+        elif known is self.visited or known is self.searched or known is self._nothing:  # (they change only with _marks)
+            where = None if disk is None else (float(disk[0][0]), float(disk[0][1]), float(disk[1]))
+            plan = (i, j, int(target), where, squeeze, self.revision, id(known), 0 if known is self._nothing else self._marks)
         if plan is not None and plan == self._last_plan:
-            return self._last_found  # the same start cell, target and grids: the same path
+            return self._last_found  # the same start cell, target, grids and ground to reach: the same path
         self._search_id[0] += 1
         if disk is None:
             found, _ = search(
