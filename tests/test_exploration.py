@@ -136,6 +136,7 @@ def test_a_run_search_that_has_searched_everything_starts_afresh(small_maze):
     obs, info = env.reset(options={"goal": [1.2, 1.2], "start": [-1.3, -1.3], "heading": 0.0})
     agent.reset(obs, info)
     agent.map.searched[:] = True
+    agent.map.grids_replaced()  # (written directly)
     assert agent.exploration.plan(dry=False) is not None
     assert not agent.map.searched.any()
 
@@ -153,6 +154,7 @@ def planned_exploration(seed: int = 0) -> tuple[HippocampalAgent, Exploration]:
     agent.pi.estimate = np.zeros(2)
     assert exploration.plan(dry=True) is not None  # the sweep ...
     m.visited[:] = True
+    m.grids_replaced()  # (written directly)
     for _ in range(config.exploration.sweep_patience):
         exploration.plan(dry=True)
     assert exploration.stage == "transit" and exploration.transit_target >= 0  # ... then transits

@@ -137,8 +137,10 @@ def test_a_search_round_the_remembered_place_that_finds_nothing_anchors_afresh(s
     agent.pi.estimate = homing.remembered() + 0.05
     homing.searching = True
     agent.map.searched[:] = False
+    agent.map.grids_replaced()  # (written directly)
     assert not homing.plan() and homing.heading is not None and agent.pi.anchored  # ground round the place left to search
     agent.map.searched[:] = True
+    agent.map.grids_replaced()
     assert homing.plan() and homing.heading is None  # searched all round: the estimate must be wrong ...
     assert not homing.searching and homing.failures == 1
     homing.searching = True  # ... and the agent, choosing its step, anchors afresh away from it

@@ -119,6 +119,7 @@ def test_a_search_squeezes_through_a_doorway_the_map_holds_too_narrow():
     m.hits[wall_row, :] = 5  # a wall along x = 0 ...
     m.hits[wall_row, door] = 0  # ... with a one-cell gap at y = 0
     m.searched[: wall_row + 1, :] = True  # this side searched
+    m.grids_replaced()
     assert m.heading_to_unvisited(np.array([-2.0, 0.0]), this_run=True) is None
     heading = m.heading_to_unvisited(np.array([-2.0, 0.0]), this_run=True, squeeze=True)
     assert heading is not None and abs(heading) < math.pi / 4, heading  # toward the gap, at +x
