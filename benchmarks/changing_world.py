@@ -18,13 +18,11 @@ import json
 import os
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
-from typing import Any
-
-import numpy as np
 
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from benchmarks.targets import target
 from hippo_env.files import write_json
+from hippomaze.bench.changing import plot_by_layout
 from hippomaze.bench.references import CHANGING_WORLD, folder
 from hippomaze.changing_world import MAZES, TASKS, layout_measures, run_task, summarise, worlds_measures
 from hippomaze.registry import agent_factory
@@ -111,49 +109,6 @@ def main(argv: list[str] | None = None) -> None:
         reference = folder() / f"{CHANGING_WORLD}.json"
         write_json(reference, {"command": record["command"], "seeds": list(args.seeds), "summary": summary})
         print(f"wrote {reference}")
-
-
-def plot_by_layout(summary: dict[str, Any], path: Path) -> bool:
-    """Bars of each changed layout's measures (``barriers_by_layout``, ``mazes_by_change``) per
-    agent: runs reaching the goal, anchored steps within 0.5 m and the successes' median
-    indirectness, with the targets dashed. ``False`` (nothing drawn) if no agent has such measures."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    layouts: dict[str, dict[str, dict[str, Any]]] = {}  # agent -> layout label -> measures
-    for agent, entry in summary.items():
-        mine = {name: m for name, m in entry.get("barriers_by_layout", {}).items()}
-        mine.update({f"maze: {name}": m for name, m in entry.get("mazes_by_change", {}).items()})
-        if mine:
-            layouts[agent] = mine
-    if not layouts:
-        return False
-    labels = list(dict.fromkeys(label for mine in layouts.values() for label in mine))
-    panels = (
-        ("success", "runs reaching the goal", 0.95),
-        ("position_within_0_5m", "anchored steps within 0.5 m", 0.95),
-        ("median_indirectness_of_successes", "median indirectness of successes", 0.3),
-    )
-    fig, axes = plt.subplots(len(panels), 1, figsize=(max(7.0, 0.9 * len(labels)), 8.5), sharex=True)
-    width = 0.8 / len(layouts)
-    x = np.arange(len(labels))
-    for k, (agent, mine) in enumerate(layouts.items()):
-        for ax, (key, _, _) in zip(axes, panels):
-            values = [mine.get(label, {}).get(key) for label in labels]
-            ax.bar(x + (k - (len(layouts) - 1) / 2) * width, [np.nan if v is None else v for v in values], width, label=agent)
-    for ax, (_, title, goal) in zip(axes, panels):
-        ax.axhline(goal, color="k", ls="--", lw=1)
-        ax.set_ylabel(title, fontsize=9)
-    axes[-1].set_yscale("log")  # (a random walk's rare successes are tens of times the shortest way)
-    axes[0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    axes[-1].set_xticks(x, labels, rotation=30, ha="right", fontsize=9)
-    axes[0].set_title("each changed layout apart (targets dashed)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
 
 
 if __name__ == "__main__":

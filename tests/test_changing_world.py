@@ -125,7 +125,7 @@ def test_a_failed_dmtp_run_pickles_as_a_runtime_error_with_its_message():
 
 
 def test_the_by_layout_figure_is_drawn_from_a_summary(tmp_path):
-    from benchmarks.changing_world import plot_by_layout
+    from hippomaze.bench.changing import plot_by_layout
 
     measures = {"success": 1.0, "position_within_0_5m": 0.5, "median_indirectness_of_successes": 0.3}
     summary = {"a": {"barriers_by_layout": {"8 blocks": measures}, "mazes_by_change": {"door": measures}}, "b": {"worlds": {}}}

@@ -105,7 +105,9 @@ def bench_command(args: argparse.Namespace) -> int:
         began = time.perf_counter()
         document = run_changing_world(args.agent, args.seeds or 3, args.out, args.workers, args.label)
         print(document["table_markdown"])
-        print(f"wrote {args.out}/changing_world.json and changing_world.md in {time.perf_counter() - began:.0f} s")
+        print(
+            f"wrote {args.out}/changing_world.json, changing_world.md and changing_world_by_layout.png in {time.perf_counter() - began:.0f} s"
+        )
         return 0
     bench = BenchArgs(
         agent=args.agent, mazes=tuple(args.mazes or ("open", "maze1")), seeds=args.seeds, protocol=args.protocol,
