@@ -144,8 +144,9 @@ class Watched:
             start_trial(trial)
 
     def reset(self, observation: Any, info: dict[str, Any]) -> None:
-        if len(self.runs) in self.forget_at:
-            self.agent.map.forget_new_walls()
+        map_ = getattr(self.agent, "map", None)
+        if map_ is not None and len(self.runs) in self.forget_at:
+            map_.forget_new_walls()
         estimates = getattr(self.agent, "pi", None) is not None  # (an agent with no estimate has no position figures)
         self.runs.append({"steps": 0, **({"anchored": 0, "placed": 0, "off_map": 0} if estimates else {})})
         self.agent.reset(observation, info)
@@ -179,8 +180,10 @@ def run_task(
     schedule = schedules[task]()
     factory = agent_factory(agent, **(overrides or {}))
     watchers: list[Watched] = []
-    runs_per_phase = [phase.trials * phase.runs for phase in Schedule(schedule["phases"]).phases]
-    forget_at = frozenset(np.cumsum(runs_per_phase)[:-1].tolist()) if forget_new_walls else frozenset()
+    forget_at: frozenset[int] = frozenset()
+    if forget_new_walls:  # (before the first run of each phase after the first)
+        runs_per_phase = [phase.trials * phase.runs for phase in Schedule(schedule["phases"]).phases]
+        forget_at = frozenset(np.cumsum(runs_per_phase)[:-1].tolist())
 
     def make(observation_space: Any, action_space: Any, *, seed: int) -> Watched:
         watchers.append(Watched(factory(observation_space, action_space, seed=seed), forget_at))

@@ -132,3 +132,28 @@ def test_the_by_layout_figure_is_drawn_from_a_summary(tmp_path):
     path = tmp_path / "by_layout.png"
     assert plot_by_layout(summary, path) and path.stat().st_size > 0
     assert not plot_by_layout({"b": {"worlds": {}}}, tmp_path / "none.png") and not (tmp_path / "none.png").exists()
+
+
+def test_the_privileged_forgetting_clears_the_map_before_the_runs_it_is_asked_to():
+    from hippomaze.changing_world import Watched
+
+    class Map:
+        forgotten = 0
+
+        def forget_new_walls(self):
+            self.forgotten += 1
+
+    class Agent:
+        def __init__(self, with_map: bool):
+            self.map = Map() if with_map else None
+
+        def reset(self, observation, info):
+            pass
+
+    watched = Watched(Agent(with_map=True), forget_at=frozenset({1, 3}))
+    counts = []
+    for _ in range(4):
+        watched.reset(None, {})
+        counts.append(watched.agent.map.forgotten)
+    assert counts == [0, 1, 1, 2]
+    Watched(Agent(with_map=False), forget_at=frozenset({0})).reset(None, {})  # an agent with no map: nothing to forget
