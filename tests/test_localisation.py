@@ -96,6 +96,48 @@ def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
     assert not doubted("half")
 
 
+@pytest.mark.parametrize(
+    ("lost_crossing", "inner_arc", "changed"), [(0.4, True, True), (None, True, True), (0.4, False, True), (0.4, True, False)]
+)
+def test_a_scan_that_crosses_walls_the_map_holds_where_the_world_changed_anchors_afresh(lost_crossing, inner_arc, changed):
+    """A round room of 2 m round the estimate; with ``changed``, its wall is gone from a quarter of
+    the circle, where the map knows the floor free (the scan, 2 m all round, has short readings
+    there: something the map does not hold), else mapped all round. With ``inner_arc``, an eighth of
+    a circle of wall 1 m from the estimate, which the scan's rays pass through. The running fit
+    stays above ``lost_agreement``, so only the share of checks that cross the map's walls where the
+    world changed (``lost_crossing``) can end the anchoring: it does, within a few checks, ruling
+    out where the estimate was. With no arc, no short readings (a maze's walls clipped at the true
+    place), or the rule off, the robot stays anchored."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    config = AgentConfig().with_values({"model.n_place": 50, "localisation.lost_crossing": lost_crossing})
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    estimate = np.array([-5.0, 0.0])
+    m = agent.map
+    for angle in np.linspace(0.0, 2.0 * math.pi, 400, endpoint=False):
+        direction = np.array([math.cos(angle), math.sin(angle)])
+        if changed and angle >= 1.5 * math.pi:
+            for r in np.arange(0.0, 2.5, m.cell / 2):
+                m.free[m.index(*(estimate + r * direction))] = 1
+        else:
+            m.hits[m.index(*(estimate + 2.0 * direction))] = 3
+        if inner_arc and angle < math.pi / 4:
+            m.hits[m.index(*(estimate + direction))] = 3
+    m.grids_replaced()
+    agent.phase = "trial"
+    agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+    localisation = agent.localisation
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])
+    for step in range(0, 40, 2):
+        localisation.check(ranges, 0.0, step=step, dry=False, just_anchored=False)
+        if not agent.pi.anchored:
+            break
+    if lost_crossing is not None and inner_arc and changed:
+        assert not agent.pi.anchored and step <= 10
+        np.testing.assert_array_equal(agent.pi.ruled_out, [estimate])
+    else:
+        assert agent.pi.anchored and localisation.fit > config.localisation.lost_agreement
+
+
 def test_on_anchoring_the_best_fitting_places_far_enough_away_are_picked_as_look_alikes():
     env = gym.make("HippoMaze-v0", maze="open", odometry=True)
     agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values({"model.n_place": 50}), seed=0)

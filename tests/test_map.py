@@ -575,3 +575,30 @@ def test_a_search_is_reused_only_while_the_ground_it_looks_for_is_unchanged():
             m.new_run()
         elif step % 25 == 24:
             m.forget_searched_near(here, 1.0)
+
+
+@pytest.mark.parametrize(("wall_from", "middle"), [(-2.0, True), (0.0, False)])
+def test_a_ray_through_a_walls_middle_is_told_from_one_clipping_its_end(wall_from, middle):
+    """Localisation's evidence of a wrong place where the world changed (``scan_agreement`` with a
+    three-element ``judged``): one ray, east, passes through a wall 1 m away that runs north from
+    ``wall_from``. Through its middle (wall on both sides of the ray's line) it counts; at the
+    wall's end (wall on one side only: a door's jamb, a thin wall's corner) it does not. Either
+    way the ray passes through a wall the map holds, and the other rays, ending 0.3 m away on free
+    ground, are short readings."""
+    m = ExplorationMap(MapConfig(extent=5.0))
+    here = np.array(m.centre(m.flat_index(0.0, 0.0)))  # (a cell's centre: the ray runs along its cells' centres)
+    for y in np.arange(wall_from, 2.0, m.cell / 2):
+        m.hits[m.index(here[0] + 1.0, here[1] + y)] = 3
+    for a in range(m.n):
+        for b in range(m.n):
+            if m.hits[a, b] == 0 and math.dist(m.centre(a * m.n + b), here) < 0.6:
+                m.free[a, b] = 1
+    m.grids_replaced()
+    ranges = np.full(720, 0.3)
+    ranges[0] = 2.0
+    judged = np.empty(3)
+    m.scan_agreement(here[None, :], 0.0, ranges, 10.0, judged=judged)
+    n_rays = 720 // round(720 * m.agreement_stride_deg / 360.0)
+    assert judged[0] == -1.0  # the one judged ray passed through a wall the map holds
+    assert judged[1] == pytest.approx((n_rays - 1) / n_rays)  # the others: short readings
+    assert judged[2] == (1 if middle else 0)

@@ -100,8 +100,12 @@ def scan_agreement(
     ``new_wall_weight``. ``judged_only``: a ray ending where the map knows
     nothing is left out, and a place where no ray is judged fits 1. If ``judged`` has room, the
     first place's fit with short readings and unknown ends left out (``short_weight`` 0,
-    ``judged_only``) goes there too, from the same ray march."""
+    ``judged_only``) goes there too, from the same ray march; if it has room for three, the share of
+    the first place's rays that were short readings, and how many of its rays crossed a wall
+    through its middle (:func:`_through_the_middle`), go after it."""
     also = judged.size > 0
+    shorts = 0  # the first place's short readings
+    middles = 0  # the first place's rays through a wall's middle
     n = free.shape[0]
     n_rays = ranges.size
     m = (n_rays + stride - 1) // stride
@@ -133,6 +137,8 @@ def scan_agreement(
                     break
                 t += 0.5
             if through:
+                if p == 0 and judged.size > 2 and _through_the_middle(free, hits, a, b, x, y, c, s, cell):
+                    middles += 1
                 counted += 1.0
                 total -= 1.0
                 counted_judged += 1.0
@@ -158,6 +164,8 @@ def scan_agreement(
                 counted_judged += new_wall_weight
                 total_judged += new_wall_weight
             elif free[i, j] > 0:  # a short reading: a boundary where the map knows free ground
+                if p == 0:
+                    shorts += 1
                 counted += short_weight
                 total -= short_weight
             elif not judged_only:
@@ -165,6 +173,31 @@ def scan_agreement(
         out[p] = total / counted if counted else (1.0 if judged_only else 0.0)
         if also and p == 0:
             judged[0] = total_judged / counted_judged if counted_judged else 1.0
+            if judged.size > 2:
+                judged[1] = shorts / m
+                judged[2] = middles
+
+
+@njit(cache=True)
+def _through_the_middle(free, hits, a, b, x, y, c, s, cell):  # pragma: no cover - compiled
+    """Whether a ray from ``(x, y)`` (grid-extent metres) along ``(c, s)`` that met the wall cell
+    ``(a, b)`` passed through the wall's middle: the map holds wall cells on both sides of the
+    ray's line within two cells of ``(a, b)``. A ray clipping a wall's end (a door's jamb, a thin
+    wall's corner at a small error in the estimate) has wall on one side only."""
+    n = free.shape[0]
+    if a < 2 or b < 2 or a >= n - 2 or b >= n - 2:
+        return False
+    left = False
+    right = False
+    for i in range(a - 2, a + 3):
+        for j in range(b - 2, b + 3):
+            if hits[i, j] > 0 and hits[i, j] >= free[i, j]:
+                side = ((i + 0.5) * cell - x) * s - ((j + 0.5) * cell - y) * c
+                if side > 0.2:
+                    left = True
+                elif side < -0.2:
+                    right = True
+    return left and right
 
 
 @njit(cache=True, inline="always")

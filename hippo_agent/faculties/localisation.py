@@ -14,6 +14,9 @@ surroundings beyond the nearest walls, where they differ (a door here, not there
 - **look-alike doubt**: on anchoring, the ``look_alikes`` places where the scan fits the map best
   (at least ``rule_out_radius`` away) are carried along by odometry; when one of them fits better
   than the estimate by ``doubt_margin``, the estimate is taken to be at a look-alike place;
+- **crossings**: a running share of the checks at which rays of the scan pass through walls the
+  map holds, one through a wall's middle, while others are short (the world changed round the
+  robot); past ``lost_crossing``, the robot anchors afresh, away from the estimate;
 - **surprising bumps**: a running rate of bumps where the map shows no wall; past
   ``lost_bump_rate``, the robot anchors afresh.
 
@@ -91,6 +94,23 @@ class LocalisationConfig(Section):
     knows free) counts in the scan's fit, against 1 for a ray through a wall: the beam model's
     "short" readings, explained by an obstacle the map does not hold yet as well as by a wrong
     place (1: a new obstacle counts fully against the place; 0: not at all)."""
+    lost_crossing: float | None = param(0.4, ge=0, le=1)
+    """Once anchored in a run, when the running share of checks that cross the map's walls where the
+    world changed exceeds this, the estimate is taken to be wrong: anchor afresh, away from it
+    (``None``: off). A check crosses them when rays pass through walls the map holds, at least one
+    through a wall's middle (the fit as ``revise_agreement`` judges it is below ``crossing_fit``: in
+    the beam model only a wrong place, or a wall removed, explains such rays) while at least
+    ``changed_share`` of the rays are short readings (something the map does not hold)."""
+    crossing_fit: float = param(0.9, ge=-1, le=1)
+    """A check crosses the map's walls only if the fit at the estimate, over the rays the map can
+    judge with short readings left out, is below this."""
+    changed_share: float = param(0.05, ge=0, le=1)
+    """... and at least this share of the scan's rays are short readings: where the map holds
+    everything round the robot, rays through a wall's end or along a thin wall at a small error in
+    the estimate are common at the true place (a maze's walls), and anchoring afresh there only
+    costs steps."""
+    crossing_rate: float = param(0.2, gt=0, le=1)
+    """Rate per check of the running share of checks that cross the map's walls: it spans about 5 checks."""
     new_wall_weight: float = param(0.5, ge=0, le=1)
     """In runs, how much a reading ending by a wall the map wrote in a run (:attr:`ExplorationMap.new_walls`)
     counts for a place, against 1 for a wall from the dry run: such walls come and go (the blocks of
@@ -119,12 +139,14 @@ class Localisation:
         self.rng = rng
         self.fit = 1.0  # running mean of how well the scan fits the map at the estimate (runs)
         self.bump_rate = 0.0  # running mean of surprising bumps per step while anchored (runs)
+        self.crossing = 0.0  # running share of checks whose scan crosses walls the map holds (runs)
         self.look_alikes = np.empty((0, 2))  # offsets from the estimate of places it may be confused with
         self.look_alike_fit = np.empty(0)  # running means of the scan's fit there
         self.own_fit = 1.0  # the same at the estimate, from its value when they were picked
         self._candidates: np.ndarray | None = None  # walkable map places, cached while the map does not change
-        # the estimate's fit as placement judges it, worked out by check's ray march, and what it was for (_key)
-        self._judged = np.empty(1)
+        # from check's ray march at the estimate: its fit as placement judges it, the share of short
+        # readings and the rays through a wall's middle; and what the fit was for (_key)
+        self._judged = np.empty(3)
         self._judged_fit = 1.0
         self._judged_key: tuple[Any, ...] | None = None
         self._judged_ranges: np.ndarray | None = None
@@ -174,6 +196,7 @@ class Localisation:
         self.look_alikes, self.look_alike_fit = np.empty((0, 2)), np.empty(0)
         self.fit = 1.0
         self.bump_rate = 0.0
+        self.crossing = 0.0
 
     # ------------------------------------------------------------------ while lost
     def evidence(
@@ -224,8 +247,9 @@ class Localisation:
     # ------------------------------------------------------------------ once anchored
     def check(self, ranges: np.ndarray, heading: float, step: int, dry: bool, just_anchored: bool) -> None:
         """After the belief's correction in a run: on anchoring, pick the look-alike places; every
-        ``check_every`` steps, update the running fits and anchor afresh if the estimate's is too
-        low or a look-alike place fits better by ``doubt_margin``."""
+        ``check_every`` steps, update the running fits and the share of checks crossing the map's
+        walls, and anchor afresh if the estimate's fit is too low, that share too high
+        (``lost_crossing``) or a look-alike place fits better by ``doubt_margin``."""
         if dry:
             return
         if just_anchored and not self.map.known_ground(self.pi.estimate) and self.map.explored_area() > 0.0:
@@ -242,8 +266,13 @@ class Localisation:
         rate = min(1.0, c.fit_rate * every)
         own = float(fits[0])
         self.fit = (1.0 - rate) * self.fit + rate * own
+        if c.lost_crossing is not None:
+            crossing = self._judged_fit < c.crossing_fit and self._judged[1] >= c.changed_share and self._judged[2] > 0
+            self.crossing += c.crossing_rate * (float(crossing) - self.crossing)
         if self.fit < c.lost_agreement:
             self.relocalise()
+        elif c.lost_crossing is not None and self.crossing > c.lost_crossing:
+            self.relocalise(rule_out=True)
         elif len(self.look_alikes):
             self.own_fit = (1.0 - rate) * self.own_fit + rate * own
             # (in floats: faster than NumPy on a few values)
@@ -286,7 +315,7 @@ class Localisation:
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         """(JSON-able state, arrays): what :meth:`load_state` restores."""
-        return {"fit": self.fit, "bump_rate": self.bump_rate, "own_fit": self.own_fit}, {
+        return {"fit": self.fit, "bump_rate": self.bump_rate, "own_fit": self.own_fit, "crossing": self.crossing}, {
             "look_alikes": self.look_alikes,
             "look_alike_fit": self.look_alike_fit,
         }
@@ -294,6 +323,7 @@ class Localisation:
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
         self.fit, self.bump_rate, self.own_fit = float(state["fit"]), float(state["bump_rate"]), float(state["own_fit"])
+        self.crossing = float(state.get("crossing", 0.0))  # (saves before 0.17 hold none)
         offsets = np.asarray(arrays["look_alikes"], dtype=np.float64).reshape(-1, 2)
         fits = np.asarray(arrays["look_alike_fit"], dtype=np.float64).reshape(-1)
         if len(offsets) != len(fits) or not (np.all(np.isfinite(offsets)) and np.all(np.isfinite(fits))):

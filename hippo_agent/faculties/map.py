@@ -305,8 +305,10 @@ class ExplorationMap:
         ``judged_only``: rays ending where the map knows nothing are left out, and a place where no
         ray is judged fits 1 (nothing the map holds says it is wrong).
 
-        ``judged`` (a one-element array): the first place's fit with ``short_weight`` 0 and
-        ``judged_only`` is written there too, from the same ray march."""
+        ``judged`` (a one- or three-element array): the first place's fit with ``short_weight`` 0
+        and ``judged_only`` is written there too, from the same ray march, and, with three elements,
+        the share of its rays that were short readings and how many crossed a wall through its
+        middle (a wrong place's evidence where the world changed)."""
         x, y = (0.0, 0.0) if around is None else (float(around[0]), float(around[1]))
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
