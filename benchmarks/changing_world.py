@@ -8,7 +8,8 @@ generated 10-20 m mazes; ``worlds``: maze1, maze3, maze2 and back) and writes th
 agent over seeds, to ``benchmarks/results/changing_world.json`` with the targets they answer,
 and each changed layout's apart (``barriers_by_layout``, ``mazes_by_change``).
 ``benchmarks.world_figures`` draws the figures. ``--forget-new-walls`` (privileged, a diagnosis)
-makes the agents' maps forget the walls their runs wrote whenever a new layout begins.
+makes the agents' maps forget the walls their runs wrote whenever a new layout begins; ``--env``
+runs the tasks on other environment arguments (another ``action_type``, sensor noise).
 """
 
 from __future__ import annotations
@@ -49,6 +50,8 @@ class ChangingWorldArgs:
     """mazes of the 'mazes' task: built-in names or gen-<kind>-<seed>[-<size>m]"""
     config: str = ""
     """AgentConfig fields by dotted name as JSON, for every agent that takes them, e.g. '{"map.new_wall_evidence": 3}'"""
+    env: str = ""
+    """more environment arguments as JSON, e.g. '{"action_type": "heading"}' (the bench's reference is made with none)"""
     workers: int = 2
     """processes"""
     out: str = ""
@@ -70,8 +73,11 @@ def main(argv: list[str] | None = None) -> None:
     overrides = json.loads(args.config) if args.config else {}
     if args.forget_new_walls and args.write_reference:
         raise SystemExit("--forget-new-walls is a privileged diagnosis: it cannot write the bench's reference")
+    env_kwargs = json.loads(args.env) if args.env else {}
+    if env_kwargs and args.write_reference:
+        raise SystemExit("--env changes the tasks: it cannot write the bench's reference, which is made on the default environment")
     jobs = [
-        (agent, seed, task, maze, overrides, args.forget_new_walls)
+        (agent, seed, task, maze, overrides, args.forget_new_walls, env_kwargs)
         for agent in args.agents
         for seed in args.seeds
         for task in args.tasks
@@ -92,6 +98,7 @@ def main(argv: list[str] | None = None) -> None:
         "load_start": load_start,
         "load_end": load_average(),
         "forget_new_walls": args.forget_new_walls,
+        "env": env_kwargs,
         "targets": {name: {"what": target(name).what, "target": target(name).text()} for name in TARGET_NAMES},
         "summary": summary,
         "rows": rows,

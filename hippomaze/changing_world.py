@@ -169,12 +169,19 @@ class Watched:
 
 # ------------------------------------------------------------------ one job
 def run_task(
-    agent: str, seed: int, task: str, maze: str = "", overrides: dict[str, Any] | None = None, forget_new_walls: bool = False
+    agent: str,
+    seed: int,
+    task: str,
+    maze: str = "",
+    overrides: dict[str, Any] | None = None,
+    forget_new_walls: bool = False,
+    env_kwargs: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """One schedule run for one agent and seed: its run records and the position figures.
     ``forget_new_walls`` (PRIVILEGED, a diagnosis only: the agent is not told the layout changed):
     the agent's map forgets the walls its runs wrote whenever a new layout begins, so that no block
-    of an earlier layout lingers in it."""
+    of an earlier layout lingers in it. ``env_kwargs``: more arguments for ``gym.make`` (e.g. another
+    ``action_type``), over the agent's own."""
     began = time.process_time()
     schedules = {"barriers": lambda: barriers_schedule(seed), "worlds": lambda: WORLDS_SCHEDULE, "mazes": lambda: maze_schedule(maze, seed)}
     schedule = schedules[task]()
@@ -193,7 +200,7 @@ def run_task(
 
     error = None
     try:
-        result = run_dmtp(make, schedule=schedule, seed=seed, agent_name=agent, progress=False)
+        result = run_dmtp(make, schedule=schedule, seed=seed, agent_name=agent, progress=False, env_kwargs=env_kwargs)
     except DMTPFailed as failed:  # (a change that cannot keep clear of the goal drawn, say): the runs so far
         result, error = failed.result, str(failed)
     runs = [dataclasses.asdict(r) for r in result.run_records]

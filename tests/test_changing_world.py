@@ -157,3 +157,24 @@ def test_the_privileged_forgetting_clears_the_map_before_the_runs_it_is_asked_to
         counts.append(watched.agent.map.forgotten)
     assert counts == [0, 1, 1, 2]
     Watched(Agent(with_map=False), forget_at=frozenset({0})).reset(None, {})  # an agent with no map: nothing to forget
+
+
+def test_environment_arguments_reach_every_schedule_run_and_cannot_make_the_reference(monkeypatch):
+    """``--env`` (e.g. continuous headings) goes to ``run_dmtp`` for each job; the bench's reference
+    is made on the default environment only."""
+    from types import SimpleNamespace
+
+    import hippomaze.changing_world as cw
+    from benchmarks import changing_world as bench
+
+    seen = []
+
+    def fake_run_dmtp(make, **kwargs):
+        seen.append(kwargs["env_kwargs"])
+        return SimpleNamespace(run_records=[], schedule={"phases": []})
+
+    monkeypatch.setattr(cw, "run_dmtp", fake_run_dmtp)
+    row = cw.run_task("random", 1, "barriers", env_kwargs={"action_type": "heading"})
+    assert seen == [{"action_type": "heading"}] and row["runs"] == []
+    with pytest.raises(SystemExit, match="--env"):
+        bench.main(["--agents", "random", "--env", '{"action_type": "heading"}', "--write-reference"])
