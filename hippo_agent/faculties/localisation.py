@@ -105,10 +105,10 @@ class LocalisationConfig(Section):
     """A check crosses the map's walls only if the fit at the estimate, over the rays the map can
     judge with short readings left out, is below this."""
     changed_share: float = param(0.05, ge=0, le=1)
-    """... and at least this share of the scan's rays are short readings: where the map holds
-    everything round the robot, rays through a wall's end or along a thin wall at a small error in
-    the estimate are common at the true place (a maze's walls), and anchoring afresh there only
-    costs steps."""
+    """A check crosses the map's walls only if at least this share of the scan's rays are short
+    readings too: where the map holds everything round the robot, rays through a wall's end or along
+    a thin wall at a small error in the estimate are common at the true place (a maze's walls), and
+    anchoring afresh there only costs steps."""
     crossing_rate: float = param(0.2, gt=0, le=1)
     """Rate per check of the running share of checks that cross the map's walls: it spans about 5 checks."""
     new_wall_weight: float = param(0.5, ge=0, le=1)
