@@ -1,12 +1,14 @@
 """Where the hippocampal agent's time goes: cProfile over the walks and the dry run that
 :mod:`benchmarks.agent_throughput` times.
 
-Three programs, each after an untimed pass (which compiles the kernels and fills the caches):
+Four programs, each after an untimed pass (which compiles the kernels and fills the caches):
 
 - the default model exploiting on a recorded random walk (act + observe, learning on);
 - the paper's model the same way;
 - the default model's dry run from scratch (the environment's steps included in the profile but
-  listed apart, as ``hippo_env`` and ``gymnasium``).
+  listed apart, as ``hippo_env`` and ``gymnasium``);
+- a whole DMTP trial of the default model in the open arena, as ``hippomaze dmtp`` runs it (its
+  dry run, then ``--dmtp-runs`` runs to a hidden goal; the environment included).
 
 For each, the record holds the profiled time per step and the functions with the most time of
 their own (exclusive), in microseconds per step and as a share of the profiled total, with their
@@ -26,7 +28,7 @@ import datetime
 import pstats
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import gymnasium as gym
 import numpy as np
@@ -34,6 +36,8 @@ import numpy as np
 import hippo_env
 from benchmarks.agent_timing import heading_for_the_goal, new_agent, recorded_walk, timed_dry_run, trained, walk
 from benchmarks.common import command_line, load_average, machine_info, output_path, parse_dataclass_args
+from hippo_env.dmtp import run_dmtp
+from hippomaze.registry import agent_factory
 
 
 @dataclass
@@ -48,6 +52,8 @@ class Args:
     """rangefinder rays"""
     seed: int = 0
     """seeds the environment, the agents and the recorded walks"""
+    dmtp_runs: int = 4
+    """runs of the profiled DMTP trial (its first finds the goal, the others go to it)"""
     top: int = 25
     """functions listed per program"""
     out: str = ""
@@ -93,6 +99,18 @@ def _short(path: str) -> str:
     return path
 
 
+def dmtp_trial(args: Args) -> Callable[[], int]:
+    """One DMTP trial of the default model (``AgentConfig()``) in the open arena, as ``hippomaze
+    dmtp --agent hippo`` runs it: a fresh agent, its dry run and ``args.dmtp_runs`` runs. A function
+    returning the environment steps it took."""
+
+    def trial() -> int:
+        result = run_dmtp(agent_factory("hippo"), "open", trials=1, runs=args.dmtp_runs, seed=args.seed, progress=False)
+        return int(result.env_steps_total)
+
+    return trial
+
+
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(Args, __doc__.splitlines()[0], argv)
     load_at_start = load_average()
@@ -114,6 +132,12 @@ def main(argv: list[str] | None = None) -> None:
     env.close()
     programs["default_dry_run"] = summary(stats, total, steps[0], args.top)
     print(f"  default model, dry run: {programs['default_dry_run']['profiled_us_per_step']} us per profiled step (environment included)")
+    trial = dmtp_trial(args)
+    trial()  # untimed
+    trial_steps: list[int] = []
+    stats, total = profiled(lambda: trial_steps.append(trial()))
+    programs["default_dmtp_trial"] = summary(stats, total, trial_steps[0], args.top)
+    print(f"  default model, a DMTP trial: {programs['default_dmtp_trial']['profiled_us_per_step']} us per profiled step (environment included)")
     record = {
         "command": command_line(),
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),

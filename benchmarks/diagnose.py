@@ -23,7 +23,10 @@ the agent never does) and measures, per maze:
 - **path integration**: the median and 90th-percentile distance between the estimate and the true
   position in the agent's frame over the anchored steps of the DMTP runs (the dry run's, whose frame
   starts where the robot stands, separately), the share of runs *misplaced* (anchored more than
-  1 m off on most of their steps), and the steps from a run's start to anchoring.
+  1 m off on most of their steps), and the steps from a run's start to anchoring; the share of
+  the anchored steps within 0.5 m of the truth, the share of all the runs' steps that were (the
+  steps before anchoring count as not), and the share of anchored steps whose estimate lies off
+  the ground the agent's map knows (``ExplorationMap.known_ground``).
 - **dry-run coverage**: the share of the free ground the robot's centre came within 0.5 m of
   against dry-run steps (``benchmarks.coverage``): steps to 80 % and 95 % and the share at the dry
   run's end, median over trials, and a figure of the curves beside the JSON (``.coverage.png``).
@@ -150,6 +153,8 @@ class Watcher:
         self.dry_pi_errors: list[float] = []  # the dry run's (its frame starts where the robot stands)
         self.dry_positions: list[np.ndarray] = []  # the dry run's true positions, for its coverage
         self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
+        self.run_steps = 0  # steps of the DMTP runs, anchored or not
+        self.off_ground = 0  # anchored steps of the DMTP runs whose estimate lies off the ground the map knows
         self.anchor_steps: list[int] = []
         self.progress: list[float] = []
         self.exploit_bumps = 0
@@ -243,6 +248,8 @@ class Watcher:
 
     def _after(self, info: dict[str, Any]) -> None:
         pi = self.agent.pi
+        if not self.in_dry_run:
+            self.run_steps += 1
         if pi is None or not pi.anchored:
             return
         truth = np.asarray(info["position"], float) - self.origin
@@ -254,6 +261,7 @@ class Watcher:
             self._anchored_at = self._steps_in_run
             self.anchor_steps.append(self._steps_in_run)
         self.run_pi_errors[-1].append(error)
+        self.off_ground += self.agent.map is not None and not self.agent.map.known_ground(pi.estimate)
 
     @property
     def pi_errors(self) -> list[float]:
@@ -359,6 +367,11 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
         "pi_error_p90_m": float(np.quantile(run_errors, 0.9)) if run_errors else None,
         "pi_error_dry_run_median_m": median_or_none([e for w in watchers for e in w.dry_pi_errors]),
         "runs_misplaced_share": float(np.mean(misplaced)) if misplaced else None,
+        "pi_within_half_metre_share": float(np.mean(np.array(run_errors) <= 0.5)) if run_errors else None,
+        "run_steps_within_half_metre_share": (
+            float(np.sum(np.array(run_errors) <= 0.5) / run_steps) if (run_steps := sum(w.run_steps for w in watchers)) else None
+        ),
+        "anchored_off_known_ground_share": (sum(w.off_ground for w in watchers) / len(run_errors)) if run_errors else None,
         "anchor_steps_median": median_or_none([float(s) for w in watchers for s in w.anchor_steps]),
         "dry_run_steps_median": median_or_none([float(c.size) for c in coverage]),
         "dry_run_coverage_steps_to_80": median_or_none([steps_to(c, 0.8) for c in coverage]),

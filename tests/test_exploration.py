@@ -75,6 +75,45 @@ def test_rest_takes_no_step_and_lays_links():
     assert rested.exploration.codes == {}  # the dry run's memory of codes is let go
 
 
+def test_rests_compiled_imagined_steps_learn_as_the_place_cells_step_by_step(monkeypatch):
+    """Each imagined transit of the rest (one compiled loop) leaves the place-place weights and the
+    traces exactly as the place cells' own methods do, step by step (rates set to the code, the
+    head-direction trace, eq. 7, eq. 6), slots given on the way included."""
+    import copy
+
+    imagine, transits = Exploration._imagine, []
+
+    def step_by_step(exploration: Exploration, cells: list[int], xy: list[list[float]]) -> object:
+        place, hd = exploration.model.place, exploration.model.hd
+        for k in range(1, len(cells)):
+            code = exploration.codes.get(cells[k])
+            if code is None:
+                continue
+            dx, dy = xy[k][0] - xy[k - 1][0], xy[k][1] - xy[k - 1][1]
+            place.v = np.zeros(place.n)
+            place.v[code[0]] = code[1]
+            place.update_hd_trace(hd.rates_for(np.array([dx / math.hypot(dx, dy), dy / math.hypot(dx, dy)])))
+            place.learn_pp()
+            place.update_trace()
+        return place
+
+    def checked(self: Exploration, cells: list[int], xy: list[list[float]]) -> int:
+        if len(transits) % 2:  # every other transit starts with no cell holding a slot: slots are given on the way
+            place = self.model.place
+            place.load_W_pp(np.empty(0, dtype=np.int64), np.zeros((0, place.n_hd, 0), dtype=np.float32))
+        reference = copy.deepcopy(self)
+        done = imagine(self, cells, xy)
+        expected = step_by_step(reference, cells, xy)
+        for name in ("W_slots", "slot", "slot_cells", "trace", "hd_trace"):
+            assert np.array_equal(getattr(self.model.place, name), getattr(expected, name)), name
+        transits.append(done)
+        return done
+
+    monkeypatch.setattr(Exploration, "_imagine", checked)
+    dry_run("maze1", seed=2, values={"model.n_place": 300})
+    assert len(transits) > 20 and sum(transits) > 500
+
+
 def test_recruitment_grows_the_place_cells_with_the_known_ground(tmp_path):
     agent, _, _, _ = dry_run("open", seed=1, values={"model.n_place": 300, "exploration.place_cells_per_m2": 5.0})
     assert agent.place.n > 300

@@ -602,3 +602,41 @@ def test_a_ray_through_a_walls_middle_is_told_from_one_clipping_its_end(wall_fro
     assert judged[0] == -1.0  # the one judged ray passed through a wall the map holds
     assert judged[1] == pytest.approx((n_rays - 1) / n_rays)  # the others: short readings
     assert judged[2] == (1 if middle else 0)
+
+
+def _walkable_afresh(m: ExplorationMap) -> np.ndarray:
+    """Each cell's walkability worked out in NumPy from the grids: known free ground off the border
+    with no wall in the 3 x 3 block round it (flat, as the searches index cells)."""
+    wall = (m.hits > 0) & (m.hits >= m.free)
+    blocked = np.zeros_like(wall)
+    padded = np.pad(wall, 1)
+    for di in range(3):
+        for dj in range(3):
+            blocked |= padded[di : di + m.n, dj : dj + m.n]
+    walkable = (m.free > 0) & ~blocked
+    walkable[[0, -1], :] = walkable[:, [0, -1]] = False
+    return walkable.reshape(-1)
+
+
+def test_the_walkability_the_searches_remember_is_that_of_the_grids_after_every_step_of_a_dry_run():
+    """A scan that changes cells forgets the walkability remembered round them only, and the rest is
+    kept for the next search: after every step of a dry run in maze1, each remembered walkability
+    that the current grids' id marks as valid equals the one worked out afresh from the grids."""
+    from agent_helpers import SMALL, make_env
+
+    from hippo_agent import HippocampalAgent
+
+    env = make_env("maze1", seed=3)
+    agent = HippocampalAgent(env.observation_space, env.action_space, SMALL, seed=3)
+    observe, kept = agent.observe, []
+
+    def observe_and_check(*args: object) -> None:
+        observe(*args)
+        m = agent.map
+        valid = (m._walk_cache >> 1) == m._walk_id()
+        assert np.array_equal((m._walk_cache[valid] & 1) == 1, _walkable_afresh(m)[valid])
+        kept.append(int(valid.sum()))
+
+    agent.observe = observe_and_check  # type: ignore[method-assign]
+    agent.dry_run(env)
+    assert len(kept) > 500 and np.median(kept) > 1_000  # (the scans kept most of what the searches worked out)

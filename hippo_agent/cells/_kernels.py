@@ -487,3 +487,29 @@ def spread_along(v, cells, start, count, target, weight, out):  # pragma: no cov
         vj = v[j]
         for e in range(start[j], start[j] + count[j]):
             out[target[e]] += vj * weight[e]
+
+
+@njit(cache=True, error_model="numpy")
+def imagined_steps(
+    W_slots, slot, v, trace, hd_trace, eta_pp, trace_rate, hd_trace_rate, trace_floor, hd_cos, hd_sin, h,
+    code_start, code_cells, code_rates, step_x, step_y, first,
+):  # pragma: no cover - compiled
+    """Imagined steps ``first, first + 1, ...`` of a sequence of place codes, each learnt as a run's
+    step is: the rates ``v`` set to step ``q``'s code (the cells ``code_cells`` with the rates
+    ``code_rates``, from ``code_start[q]`` to ``code_start[q + 1]``; every other cell 0), the
+    head-direction trace moved toward eq. 1's rates for the unit step ``(step_x[q], step_y[q])``
+    (:func:`hd_rates`, into ``h``), eq. 7 (:func:`pp_update`), the place-cell trace moved toward
+    the rates (eq. 6). Returns the number of steps done: it stops at step ``q`` when eq. 7 reaches
+    cells holding no ``W_pp`` slot yet (``v`` and the head-direction trace are then step ``q``'s;
+    its eq. 7 and place-cell trace are left to the caller)."""
+    for q in range(first, step_x.size):
+        for i in range(v.size):
+            v[i] = 0.0
+        for a in range(code_start[q], code_start[q + 1]):
+            v[code_cells[a]] = code_rates[a]
+        hd_rates(step_x[q], step_y[q], hd_cos, hd_sin, h)
+        update_trace(hd_trace, h, hd_trace_rate, -np.inf)
+        if pp_update(W_slots, slot, v, trace, eta_pp, hd_trace):
+            return q
+        update_trace(trace, v, trace_rate, trace_floor)
+    return step_x.size

@@ -26,15 +26,15 @@ class HeadDirectionCells:
             raise ValueError(f"n={n} head-direction cells is invalid; allowed: an integer >= 1")
         self.n = int(n)
         self.preferred = 2.0 * np.pi * np.arange(self.n) / self.n
-        self._cos = np.cos(self.preferred)
-        self._sin = np.sin(self.preferred)
+        self.cos_preferred = np.cos(self.preferred)  # (eq. 1's rates are the heading's projections on these)
+        self.sin_preferred = np.sin(self.preferred)
         self.rates = np.zeros(self.n)
 
     def rates_for(self, heading_vec: np.ndarray) -> np.ndarray:
         """Rates for a heading given as ``(cos, sin)`` (need not be unit length), without updating."""
         # eq. 1: v^h_k = <unit heading, (cos theta_k, sin theta_k)> = cos(heading - theta_k)
         rates = np.empty(self.n)
-        if _kernels.hd_rates(float(heading_vec[0]), float(heading_vec[1]), self._cos, self._sin, rates) == 0.0:
+        if _kernels.hd_rates(float(heading_vec[0]), float(heading_vec[1]), self.cos_preferred, self.sin_preferred, rates) == 0.0:
             raise ValueError("heading vector (0, 0) has no direction")
         return rates
 

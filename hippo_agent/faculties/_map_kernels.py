@@ -28,14 +28,23 @@ def _grid_index(v, cell, inv_cell):  # pragma: no cover - compiled
     return math.floor(v * inv_cell) if inv_cell > 0.0 else math.floor(v / cell)
 
 
+@njit(cache=True, inline="always")
+def _forget_walkable(walk_cache, i, j, n):  # pragma: no cover - compiled
+    """Forget the walkability remembered of the cells in the 3 x 3 block round ``(i, j)``."""
+    for a in range(max(i - 1, 0), min(i + 2, n)):
+        for b in range(max(j - 1, 0), min(j + 2, n)):
+            walk_cache[a * n + b] = 0
+
+
 @njit(cache=True)
 def enter_scan(
-    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, unknown_only
+    free, hits, x, y, heading, ranges, stride, max_range, extent, cell, inv_cell, free_range, hit_range, unknown_only, walk_cache
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray: cells it passes are counted free, the cell it ends in hit
     (with ``unknown_only``, only cells neither free nor hit so far). Returns how many cells changed
     what the map says of them (known free, a wall); a count that changes neither is not counted
-    (the searches and the fits read only that)."""
+    (the searches and the fits read only that). The walkability remembered of the cells round each
+    cell that changed is forgotten (``walk_cache``, :func:`_walkable_once`): only theirs depends on it."""
     n = free.shape[0]
     changed = 0
     n_rays = ranges.size
@@ -57,6 +66,7 @@ def enter_scan(
                     # a cell known free stays so; it changes if it was unknown or stops being a wall
                     if free[i, j] == 0 or (hits[i, j] > 0 and hits[i, j] == free[i, j]):
                         changed += 1
+                        _forget_walkable(walk_cache, i, j, n)
                     free[i, j] += 1
                 last_i, last_j = i, j
             t += step
@@ -67,6 +77,7 @@ def enter_scan(
                 # a hit makes a wall of a cell that was not one (hits + 1 >= free, where hits < free)
                 if hits[i, j] + 1 == free[i, j] or (hits[i, j] == 0 and free[i, j] == 0):
                     changed += 1
+                    _forget_walkable(walk_cache, i, j, n)
                 hits[i, j] += 1
     return changed
 
@@ -217,10 +228,11 @@ def walls_beside(free, hits, new_walls, i, j):  # pragma: no cover - compiled
 @njit(cache=True)
 def walkable_points(free, hits, stride, extent, cell, out):  # pragma: no cover - compiled
     n = free.shape[0]
+    flat_free, flat_hits = free.reshape(n * n), hits.reshape(n * n)
     m = 0
     for i in range(1, n - 1, stride):
         for j in range(1, n - 1, stride):
-            if free[i, j] > 0 and _walkable(free, hits, i, j):
+            if free[i, j] > 0 and _walkable(flat_free, flat_hits, i * n + j, n):
                 out[m, 0] = (i + 0.5) * cell - extent
                 out[m, 1] = (j + 0.5) * cell - extent
                 m += 1
@@ -244,74 +256,83 @@ def mark_disk(grid, x, y, radius, extent, cell):  # pragma: no cover - compiled
     return newly
 
 
-@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
-def _is_wall(free, hits, i, j):  # pragma: no cover - compiled
-    return hits[i, j] > 0 and hits[i, j] >= free[i, j]
+# The searches address cells by flat index k = i n + j (one index, no division per cell step):
+# the helpers below take the grids as flat views (``free.reshape(n * n)``) and a cell on the grid.
+# (The forms of their expressions are the measured fast ones: numba compiles an ``or`` of calls
+# into faster code than the same test written with early returns.)
 
 
 @njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
-def _walkable(free, hits, i, j):  # pragma: no cover - compiled
-    """Known free, and no wall in the 3 x 3 block around it."""
-    n = free.shape[0]
-    if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
-        return False
-    if free[i, j] == 0 or _is_wall(free, hits, i, j):
-        return False
-    for di in range(-1, 2):
-        for dj in range(-1, 2):
-            if _is_wall(free, hits, i + di, j + dj):
-                return False
-    return True
-
-
-@njit(cache=True, inline="always")  # (a call passing arrays costs reference counting)
-def _free_not_wall(free, hits, i, j):  # pragma: no cover - compiled
-    n = free.shape[0]
-    return 1 <= i < n - 1 and 1 <= j < n - 1 and free[i, j] > 0 and not _is_wall(free, hits, i, j)
+def _is_wall(free, hits, k):  # pragma: no cover - compiled
+    return hits[k] > 0 and hits[k] >= free[k]
 
 
 @njit(cache=True, inline="always")
-def _walkable_once(free, hits, i, j, walk_cache, walk_id):  # pragma: no cover - compiled
+def _walkable(free, hits, k, n):  # pragma: no cover - compiled
+    """Known free, and no wall in the 3 x 3 block around it (off the grid's border)."""
+    i = k // n
+    j = k - i * n
+    if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
+        return False
+    if free[k] == 0 or _is_wall(free, hits, k):
+        return False
+    for d in (-n - 1, -n, -n + 1, -1, 1, n - 1, n, n + 1):
+        if _is_wall(free, hits, k + d):
+            return False
+    return True
+
+
+@njit(cache=True, inline="always")
+def _free_not_wall(free, hits, k, n):  # pragma: no cover - compiled
+    i = k // n
+    j = k - i * n
+    return 1 <= i < n - 1 and 1 <= j < n - 1 and free[k] > 0 and not _is_wall(free, hits, k)
+
+
+@njit(cache=True, inline="always")
+def _walkable_once(free, hits, k, n, walk_cache, walk_id):  # pragma: no cover - compiled
     """:func:`_walkable`, remembered in ``walk_cache`` as ``2 walk_id + walkable``: one id per
     state of the grids, so that searches on unchanged grids reuse what earlier ones worked out.
     (One array for the id and the answer: a search reads one entry per cell, not two.)"""
-    n = free.shape[0]
-    if i < 0 or j < 0 or i >= n or j >= n:
-        return False
-    k = i * n + j
     cached = walk_cache[k]
     if (cached >> 1) == walk_id:
         return (cached & 1) == 1
-    walkable = _walkable(free, hits, i, j)
+    walkable = _walkable(free, hits, k, n)
     walk_cache[k] = 2 * walk_id + walkable
     return walkable
 
 
 @njit(cache=True, inline="always")
-def _passable_once(free, hits, i, j, near_start, walk_cache, walk_id):  # pragma: no cover - compiled
+def _passable_once(free, hits, k, n, near_start, walk_cache, walk_id):  # pragma: no cover - compiled
     """Walkable (:func:`_walkable_once`), or (near the start: within two steps of it, or ``squeeze``)
     at least free and not a wall."""
-    return _walkable_once(free, hits, i, j, walk_cache, walk_id) or (near_start and _free_not_wall(free, hits, i, j))
+    return _walkable_once(free, hits, k, n, walk_cache, walk_id) or (near_start and _free_not_wall(free, hits, k, n))
 
 
-# the 8 neighbours of a cell, in the order the searches try them
-_NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+# the 8 neighbours of a cell, in the order the searches try them: the row and column of each step
+_ROW_STEP = (-1, -1, -1, 0, 0, 1, 1, 1)
+_COLUMN_STEP = (-1, 0, 1, -1, 1, -1, 0, 1)
 
 
 @njit(cache=True, inline="always")
-def _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):  # pragma: no cover - compiled
-    """Whether a search may step from (ci, cj) by (di, dj): onto a passable cell
-    (:func:`_passable_once`), and diagonally only between two passable cells (no corner cutting)."""
-    if not _passable_once(free, hits, ci + di, cj + dj, near, walk_cache, walk_id):
-        return False
-    return (
-        di == 0
-        or dj == 0
-        or (
-            _passable_once(free, hits, ci + di, cj, near, walk_cache, walk_id)
-            and _passable_once(free, hits, ci, cj + dj, near, walk_cache, walk_id)
-        )
-    )
+def _step_to(cur, d, n):  # pragma: no cover - compiled
+    """The flat index of neighbour ``d`` of the cell ``cur`` (``_ROW_STEP[d]``, ``_COLUMN_STEP[d]``)."""
+    if d < 3:
+        return cur - n + d - 1
+    if d < 5:
+        return cur + 2 * d - 7
+    return cur + n + d - 6
+
+
+@njit(cache=True, inline="always")
+def _corner_clear(free, hits, cur, d, n, near, walk_cache, walk_id):  # pragma: no cover - compiled
+    """For a step from ``cur`` to its passable neighbour ``d``: not a diagonal step, or both cells
+    beside it passable (no corner cutting)."""
+    if d == 1 or d == 3 or d == 4 or d == 6:
+        return True
+    row = cur - n if d < 3 else cur + n
+    column = cur - 1 if d == 0 or d == 5 else cur + 1
+    return _passable_once(free, hits, row, n, near, walk_cache, walk_id) and _passable_once(free, hits, column, n, near, walk_cache, walk_id)
 
 
 @njit(cache=True)
@@ -326,6 +347,7 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1, 0
+    free_, hits_, known_ = free.reshape(n * n), hits.reshape(n * n), known.reshape(n * n)  # (flat views)
     start = i0 * n + j0
     stamp[start] = search_id
     parent[start] = -1
@@ -335,7 +357,6 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
     while head < tail:
         cur = queue[head]
         head += 1
-        ci, cj = cur // n, cur % n
         # a robot beside a wall stands on cells that are not walkable: leave them by free ones
         near = squeeze or (target != -2 and (cur == start or parent[cur] == start))
         if cur != start:
@@ -343,12 +364,14 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
                 if cur == target:
                     found = cur
                     break
-            elif target == -1 and not known[ci, cj] and _walkable_once(free, hits, ci, cj, walk_cache, walk_id):
+            elif target == -1 and not known_[cur] and _walkable_once(free_, hits_, cur, n, walk_cache, walk_id):
                 found = cur
                 break
-        for di, dj in _NEIGHBOURS:
-            nxt = (ci + di) * n + cj + dj
-            if stamp[nxt] == search_id or not _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):
+        for d in range(8):
+            nxt = _step_to(cur, d, n)
+            if stamp[nxt] == search_id or not _passable_once(free_, hits_, nxt, n, near, walk_cache, walk_id):
+                continue
+            if not _corner_clear(free_, hits_, cur, d, n, near, walk_cache, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
@@ -376,6 +399,7 @@ def search_disk(
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1
+    free_, hits_, known_ = free.reshape(n * n), hits.reshape(n * n), known.reshape(n * n)  # (flat views)
     start = i0 * n + j0
     stamp[start] = search_id
     parent[start] = -1
@@ -390,25 +414,27 @@ def search_disk(
         ci, cj = cur // n, cur % n
         if (
             cur != start
-            and not known[ci, cj]
+            and not known_[cur]
             and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
-            and _walkable_once(free, hits, ci, cj, walk_cache, walk_id)
+            and _walkable_once(free_, hits_, cur, n, walk_cache, walk_id)
         ):
             return cur
         near = squeeze or cur == start or parent[cur] == start
         g = steps[cur] + 1
-        for di, dj in _NEIGHBOURS:
-            nxt = (ci + di) * n + cj + dj
+        for d in range(8):
+            nxt = _step_to(cur, d, n)
             if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
                 continue
-            if not _can_step(free, hits, ci, cj, di, dj, near, walk_cache, walk_id):
+            if not _passable_once(free_, hits_, nxt, n, near, walk_cache, walk_id):
+                continue
+            if not _corner_clear(free_, hits_, cur, d, n, near, walk_cache, walk_id):
                 continue
             stamp[nxt] = search_id
             parent[nxt] = cur
             steps[nxt] = g
             if size == heap.size:
                 return -1  # (cannot happen: a cell enters the queue at most once from each neighbour)
-            size = _heap_push(heap, heap_cells, size, _priority(ci + di, cj + dj, g, dx, dy, dr), nxt)
+            size = _heap_push(heap, heap_cells, size, _priority(ci + _ROW_STEP[d], cj + _COLUMN_STEP[d], g, dx, dy, dr), nxt)
     return -1
 
 
@@ -473,9 +499,10 @@ def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_cache, walk
     straight for it, not along the search's 8-connected zig-zags. ``walk_cache`` / ``walk_id`` as
     in :func:`search`."""
     n = free.shape[0]
+    free_, hits_ = free.reshape(n * n), hits.reshape(n * n)  # (flat views)
     best = 1
     for k in range(2, min(most, path.size - 1) + 1):
-        if not _line_clear(free, hits, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_cache, walk_id):
+        if not _line_clear(free_, hits_, n, gx, gy, path[k] // n + 0.5, path[k] % n + 0.5, squeeze, walk_cache, walk_id):
             break
         best = k
     return best
@@ -485,17 +512,19 @@ def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_cache, walk
 def lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_cache, walk_id):  # pragma: no cover - compiled
     """:func:`_line_clear` for the line from ``(gx, gy)`` to ``(tx, ty)`` shifted by ``k`` times
     ``(nx, ny)``, for every ``k`` from ``-margin`` to ``margin``."""
+    n = free.shape[0]
+    free_, hits_ = free.reshape(n * n), hits.reshape(n * n)  # (flat views)
     for k in range(-margin, margin + 1):
-        if not _line_clear(free, hits, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_cache, walk_id):
+        if not _line_clear(free_, hits_, n, gx + k * nx, gy + k * ny, tx + k * nx, ty + k * ny, False, walk_cache, walk_id):
             return False
     return True
 
 
 @njit(cache=True)
-def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
+def _line_clear(free, hits, n, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
     """Whether the straight line from ``(gx, gy)`` to ``(tx, ty)`` (grid units), sampled every third
     of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
-    ``squeeze``, free cells that are not walls will do)."""
+    ``squeeze``, free cells that are not walls will do). The grids as flat views, ``n`` their side."""
     samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
     last_i, last_j, last_near = -1, -1, False
     for s in range(1, samples + 1):
@@ -505,7 +534,7 @@ def _line_clear(free, hits, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  # pr
         i, j = int(x), int(y)
         if i == last_i and j == last_j and near == last_near:
             continue  # (the sample before was in this cell: it passed)
-        if not _passable_once(free, hits, i, j, near, walk_cache, walk_id):
+        if not (0 <= i < n and 0 <= j < n and _passable_once(free, hits, i * n + j, n, near, walk_cache, walk_id)):
             return False
         last_i, last_j, last_near = i, j, near
     return True

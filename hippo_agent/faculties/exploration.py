@@ -22,6 +22,7 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from hippo_agent.cells import _kernels
 from hippo_agent.faculties.map import ExplorationMap
 from hippo_agent.faculties.path_integration import PathIntegrator
 from hippo_agent.paper_model import PaperModel
@@ -199,21 +200,43 @@ class Exploration:
                 points = np.column_stack([np.interp(along, lengths, path[:, 0]), np.interp(along, lengths, path[:, 1])])
                 place.trace = np.zeros(place.n)
                 place.hd_trace = np.zeros(place.n_hd)
-                cells, xy = self.map.flat_indices(points).tolist(), points.tolist()
-                for k in range(1, len(cells)):
-                    code = self.codes.get(cells[k])
-                    if code is None:
-                        continue
-                    dx, dy = xy[k][0] - xy[k - 1][0], xy[k][1] - xy[k - 1][1]
-                    place.v = np.zeros(place.n)
-                    place.v[code[0]] = code[1]
-                    length = math.hypot(dx, dy)
-                    place.update_hd_trace(hd.rates_for(np.array([dx / length, dy / length])))
-                    place.learn_pp()  # eq. 7
-                    place.update_trace()  # eq. 6
-                    budget -= 1
+                budget -= self._imagine(self.map.flat_indices(points).tolist(), points.tolist())
         finally:
             place.v, place.trace, place.hd_trace = saved
+
+    def _imagine(self, cells: list[int], xy: list[list[float]]) -> int:
+        """One imagined transit through the points ``xy`` (in the map cells ``cells``): at each
+        point after the first whose cell holds a remembered code, the rates are that code, the
+        heading is from the point before, and the place-place rule (eq. 7) and the traces (eq. 6)
+        learn as in a run. Returns the number of imagined steps. (The steps run in one compiled
+        loop, which stops where a cell needs a ``W_pp`` slot: :meth:`PlaceCells.learn_pp` gives it.)"""
+        place, hd = self.model.place, self.model.hd
+        steps = [(code, k) for k, code in ((k, self.codes.get(cells[k])) for k in range(1, len(cells))) if code is not None]
+        if not steps:
+            return 0
+        step_x, step_y = np.empty(len(steps)), np.empty(len(steps))
+        for q, (_, k) in enumerate(steps):
+            dx, dy = xy[k][0] - xy[k - 1][0], xy[k][1] - xy[k - 1][1]
+            length = math.hypot(dx, dy)
+            step_x[q], step_y[q] = dx / length, dy / length
+        code_start = np.zeros(len(steps) + 1, dtype=np.int64)
+        np.cumsum([code[0].size for code, _ in steps], out=code_start[1:])
+        code_cells = np.concatenate([code[0] for code, _ in steps])
+        code_rates = np.concatenate([code[1] for code, _ in steps])
+        place.v = np.zeros(place.n)
+        h = np.empty(place.n_hd)
+        done = 0
+        while done < len(steps):
+            done = _kernels.imagined_steps(
+                place.W_slots, place.slot, place.v, place.trace, place.hd_trace, place.eta_pp, place.trace_rate,
+                place.hd_trace_rate, place.trace_floor, hd.cos_preferred, hd.sin_preferred, h, code_start, code_cells,
+                code_rates, step_x, step_y, done,
+            )  # fmt: skip
+            if done < len(steps):  # a cell needs a slot: this step's eq. 7 and trace, then on
+                place.learn_pp()
+                place.update_trace()
+                done += 1
+        return len(steps)
 
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:

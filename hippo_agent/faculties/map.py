@@ -182,11 +182,15 @@ class ExplorationMap:
         only the cells the map knows nothing of yet: what it knows stays as it is."""
         n_rays = ranges.size
         stride = max(1, round(n_rays * self.ray_stride_deg / 360.0))
+        current = self._walk_revision == self.revision  # (the walkability remembered is that of these grids)
         if enter_scan(
             self.free, self.hits, float(position[0]), float(position[1]), float(heading), ranges, stride,
             float(max_range), self.extent, self.cell, self._inv_cell, self.free_range, self.hit_range, unknown_only,
+            self._walk_cache,
         ):  # fmt: skip
             self.revision += 1
+            if current:  # the scan forgot what its changes touch: the rest holds for the new grids
+                self._walk_revision = self.revision
         self.mark(position, search_radius)
 
     def mark(self, position: np.ndarray, search_radius: float | None = None) -> None:
