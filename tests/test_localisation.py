@@ -67,12 +67,14 @@ def two_rooms(agent: HippocampalAgent, estimate: np.ndarray, look_alike_ring: st
     m.grids_replaced()
 
 
-def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
+@pytest.mark.parametrize("doubt_nearby", [None, 0.25])
+def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring(doubt_nearby):
     """Once anchored, the scan's fit to the map is followed at the estimate and at its look-alike
     places; when one fits better by ``doubt_margin``, the robot anchors afresh, ruling out where
-    it was. One that fits as well changes nothing."""
+    it was (also when places near the estimate are fitted: none fits as well). One that fits as
+    well changes nothing."""
     env = gym.make("HippoMaze-v0", maze="open", odometry=True)
-    config = AgentConfig().with_values({"model.n_place": 50})
+    config = AgentConfig().with_values({"model.n_place": 50, "localisation.doubt_nearby": doubt_nearby})
     ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])  # a round room of 2 m
     estimate = np.array([-5.0, 0.0])
 
@@ -94,6 +96,41 @@ def test_a_look_alike_place_that_fits_the_scan_better_ends_the_anchoring():
 
     assert doubted("whole")  # the look-alike's room fits all round, the estimate's only half
     assert not doubted("half")
+
+
+@pytest.mark.parametrize(("doubt_nearby", "doubted_expected"), [(None, True), (0.25, False)])
+def test_a_look_alike_fitting_better_than_an_estimate_a_little_off_the_truth_does_not_end_the_anchoring(doubt_nearby, doubted_expected):
+    """Two identical round rooms 10 m apart, both mapped all round; the robot at the centre of the
+    first, its estimate 0.5 m east of it, and its look-alike place at the centre of the second.
+    The look-alike fits the scan better than the estimate; with ``doubt_nearby`` the estimate
+    stands, as a place that near it fits as well."""
+    estimate_off = 0.5
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    config = AgentConfig().with_values({"model.n_place": 50, "localisation.doubt_nearby": doubt_nearby})
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])
+    centre = np.array([-5.0, 0.0])
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    two_rooms(agent, centre, "whole")
+    for angle in np.linspace(0.0, 2.0 * math.pi, 400, endpoint=False):  # (the east half of the first room too)
+        agent.map.hits[agent.map.index(centre[0] + 2.0 * math.cos(angle), centre[1] + 2.0 * math.sin(angle))] = 3
+    agent.map.grids_replaced()
+    localisation = agent.localisation
+    agent.phase = "trial"
+    estimate = centre + (estimate_off, 0.0)
+    agent.pi.anchored, agent.pi.estimate = True, estimate.copy()
+    localisation.look_alikes, localisation.look_alike_fit = np.array([[10.0 - estimate_off, 0.0]]), np.array([0.5])
+    localisation.own_fit = localisation.fit = 0.5
+    for _ in range(30):
+        localisation.check(ranges, 0.0, step=0, dry=False, just_anchored=False)
+        if not agent.pi.anchored:
+            break
+    assert (not agent.pi.anchored) == doubted_expected
+    assert doubted_expected or localisation.look_alike_fit[0] > localisation.own_fit + config.localisation.doubt_margin  # (raised)
+    if doubt_nearby is not None:  # where the scan holds short readings (the world may have changed) the doubt stands as it is
+        localisation._judged[1] = 0.0
+        assert localisation._fits_nearby(0.0, ranges, 1.0)
+        localisation._judged[1] = config.localisation.changed_share
+        assert not localisation._fits_nearby(0.0, ranges, 1.0)
 
 
 @pytest.mark.parametrize(
