@@ -26,9 +26,10 @@ import cProfile
 import dataclasses
 import datetime
 import pstats
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -137,7 +138,9 @@ def main(argv: list[str] | None = None) -> None:
     trial_steps: list[int] = []
     stats, total = profiled(lambda: trial_steps.append(trial()))
     programs["default_dmtp_trial"] = summary(stats, total, trial_steps[0], args.top)
-    print(f"  default model, a DMTP trial: {programs['default_dmtp_trial']['profiled_us_per_step']} us per profiled step (environment included)")
+    print(
+        f"  default model, a DMTP trial: {programs['default_dmtp_trial']['profiled_us_per_step']} us per profiled step (environment included)"
+    )
     record = {
         "command": command_line(),
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),

@@ -491,8 +491,24 @@ def spread_along(v, cells, start, count, target, weight, out):  # pragma: no cov
 
 @njit(cache=True, error_model="numpy")
 def imagined_steps(
-    W_slots, slot, v, trace, hd_trace, eta_pp, trace_rate, hd_trace_rate, trace_floor, hd_cos, hd_sin, h,
-    code_start, code_cells, code_rates, step_x, step_y, first,
+    W_slots,
+    slot,
+    v,
+    trace,
+    hd_trace,
+    eta_pp,
+    trace_rate,
+    hd_trace_rate,
+    trace_floor,
+    hd_cos,
+    hd_sin,
+    h,
+    code_start,
+    code_cells,
+    code_rates,
+    step_x,
+    step_y,
+    first,
 ):  # pragma: no cover - compiled
     """Imagined steps ``first, first + 1, ...`` of a sequence of place codes, each learnt as a run's
     step is: the rates ``v`` set to step ``q``'s code (the cells ``code_cells`` with the rates

@@ -332,7 +332,9 @@ def _corner_clear(free, hits, cur, d, n, near, walk_cache, walk_id):  # pragma: 
         return True
     row = cur - n if d < 3 else cur + n
     column = cur - 1 if d == 0 or d == 5 else cur + 1
-    return _passable_once(free, hits, row, n, near, walk_cache, walk_id) and _passable_once(free, hits, column, n, near, walk_cache, walk_id)
+    return _passable_once(free, hits, row, n, near, walk_cache, walk_id) and _passable_once(
+        free, hits, column, n, near, walk_cache, walk_id
+    )
 
 
 @njit(cache=True)

@@ -183,7 +183,7 @@ class Exploration:
         budget = round(c.rest_factor * self.sweep_steps)
         if budget <= 0 or not self.codes:
             return
-        place, hd = self.model.place, self.model.hd
+        place = self.model.place
         saved = place.v, place.trace, place.hd_trace
         remembered = np.fromiter(self.codes.keys(), dtype=np.int64)
         try:
