@@ -211,7 +211,7 @@ class Exploration:
         learn as in a run. Returns the number of imagined steps. (The steps run in one compiled
         loop, which stops where a cell needs a ``W_pp`` slot: :meth:`PlaceCells.learn_pp` gives it.)"""
         place, hd = self.model.place, self.model.hd
-        steps = [(code, k) for k, code in ((k, self.codes.get(cells[k])) for k in range(1, len(cells))) if code is not None]
+        steps = [(self.codes[cells[k]], k) for k in range(1, len(cells)) if cells[k] in self.codes]
         if not steps:
             return 0
         step_x, step_y = np.empty(len(steps)), np.empty(len(steps))
