@@ -316,12 +316,8 @@ _COLUMN_STEP = (-1, 0, 1, -1, 1, -1, 0, 1)
 
 @njit(cache=True, inline="always")
 def _step_to(cur, d, n):  # pragma: no cover - compiled
-    """The flat index of neighbour ``d`` of the cell ``cur`` (``_ROW_STEP[d]``, ``_COLUMN_STEP[d]``)."""
-    if d < 3:
-        return cur - n + d - 1
-    if d < 5:
-        return cur + 2 * d - 7
-    return cur + n + d - 6
+    """The flat index of neighbour ``d`` of the cell ``cur``."""
+    return cur + _ROW_STEP[d] * n + _COLUMN_STEP[d]
 
 
 @njit(cache=True, inline="always")
