@@ -53,6 +53,7 @@ import numpy as np
 import hippo_env  # noqa: F401  (registers HippoMaze-v0)
 from benchmarks.common import REPO, command_line, load_average, machine_info, parse_dataclass_args
 from benchmarks.coverage import coverage_curve, plot_curves, steps_to
+from benchmarks.maze_suite import maze_source
 from hippo_agent import AgentConfig, HippocampalAgent
 from hippo_agent.faculties.path_integration import PathIntegrator
 from hippo_env.dmtp import run_dmtp
@@ -71,7 +72,7 @@ MISPLACED = 1.0  # m: a run whose path-integration estimate is mostly farther of
 @dataclasses.dataclass
 class DiagnoseArgs:
     maze: str = "maze2"
-    """built-in maze or a JSON path"""
+    """built-in maze, a JSON path, or a generated maze by the suite's name (gen-rooms-105, gen-arena-108-20m)"""
     trials: int = 10
     """DMTP trials (each a fresh agent)"""
     seed: int = 0
@@ -270,13 +271,13 @@ class Watcher:
 
 
 def spec_name(maze: str) -> str:
-    return MazeSpec.load(maze).name
+    return MazeSpec.load(maze_source(maze)).name
 
 
 def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
     """Run the trials and measure; returns the record written to JSON and each trial's dry-run
     coverage curve."""
-    spec = MazeSpec.load(args.maze)
+    spec = MazeSpec.load(maze_source(args.maze))
     overrides = {} if args.dry_run_steps < 0 else {"model.dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
     if args.oracle:

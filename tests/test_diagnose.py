@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmarks.diagnose import DiagnoseArgs, across_walls, diagnose, path_distances, twin_share
+from benchmarks.diagnose import DiagnoseArgs, across_walls, diagnose, path_distances, spec_name, twin_share
 from benchmarks.maze_suite import maze_source, one
 from hippo_env.maze import MazeSpec
 
@@ -61,6 +61,12 @@ def test_maze_suite_runs_a_generated_maze():
     assert MazeSpec.load(maze_source("gen-walls-100")).name == "gen-walls-100"
     row = one("paper", "open", seed=0, trials=1, dry_run_steps=200, config_json='{"model.n_place": 200}')
     assert row["trials"] == 1 and len(row["median_per_run"]) == 4 and row["env_steps_total"] > 200
+
+
+def test_diagnose_names_a_generated_maze_as_the_suite_does():
+    assert spec_name("gen-rooms-105") == "gen-rooms-105"
+    with pytest.raises(ValueError, match="gen-<kind>-<seed>"):
+        spec_name("gen-rooms")
 
 
 def test_oracle_diagnosis_runs_with_the_true_position(tmp_path):

@@ -103,6 +103,23 @@ def test_the_last_bumps_while_homing_start_the_search_and_surprising_ones_give_u
     assert homing.failures == 1 and homing.bumps == 0 and not homing.searching and homing.search_mark is None
 
 
+def test_homing_that_comes_no_nearer_for_stall_steps_fails_as_a_search_does():
+    """Steering toward the place without coming ``stall_progress`` nearer for ``stall_steps``
+    steps is a failed search (the map's way is not the world's); coming nearer is not."""
+    homing = bare_homing(HomingConfig(stall_steps=5, stall_progress=0.5))
+    homing.remember(np.array([1.5, 0.0]))
+    homing.pi.estimate = np.array([-1.5, 0.0])
+    assert [homing.plan() for _ in range(5)] == [False] * 5  # the first step sets the nearest; four more
+    assert homing.plan() and homing.failures == 1 and homing.heading is None
+    for x in (-1.5, -0.9, -0.3, 0.3, 0.9):  # 0.6 m nearer each step
+        homing.pi.estimate = np.array([x, 0.0])
+        for _ in range(4):
+            assert not homing.plan()
+    assert homing.failures == 1
+    homing.pi.lose()  # a new anchoring starts the count afresh
+    assert not homing.plan() and homing.stalled == 0
+
+
 # ------------------------------------------------------------------ in the environment
 @pytest.mark.parametrize("radius", [None, 1.5])
 def test_near_where_the_goal_was_found_the_agent_homes_there(small_maze, radius):
@@ -277,8 +294,9 @@ def test_the_state_of_homing_loads_into_a_fresh_one_that_steers_the_same():
         lambda state, arrays: arrays.update(found_count=np.array([1.0, np.nan])),
         lambda state, arrays: arrays.update(found_sum=np.full((2, 2), np.inf)),
         lambda state, arrays: state.update(failures="twice"),
+        lambda state, arrays: state.update(stalled="long"),
     ],
-    ids=["lengths", "nan", "inf", "failures"],
+    ids=["lengths", "nan", "inf", "failures", "stalled"],
 )
 def test_a_malformed_homing_state_raises_value_error(spoil):
     homing = homed()

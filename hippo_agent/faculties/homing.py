@@ -11,9 +11,9 @@ disk, may lie by a wall), then straight on. Where the map knows no path, preplay
 
 Arrived (within ``arrived``), or stopped by a wall on the last stretch, without the reward, it
 searches the ground within ``search_radius`` of the place afresh. If that search finds nothing, or
-it bumped ``bump_limit`` times on the way into walls its map does not hold, its estimate must be
-at a look-alike place: :meth:`Homing.plan` and :meth:`Homing.bumped` say so, and the agent anchors
-afresh away from there. After ``attempts`` such failures in a run, the memory itself is taken to
+it bumped ``bump_limit`` times on the way into walls its map does not hold, or it steered
+``stall_steps`` steps without coming nearer the place, its estimate must be at a look-alike place:
+:meth:`Homing.plan` and :meth:`Homing.bumped` say so, and the agent anchors afresh away from there. After ``attempts`` such failures in a run, the memory itself is taken to
 be wrong (written while misplaced, say): neither homing nor the reward map steers for the rest of
 the run (:attr:`Homing.gave_up`), and the next reward replaces the memory.
 """
@@ -61,6 +61,14 @@ class HomingConfig(Section):
     rival_radius: float = param(1.0, gt=0)
     """A reward found farther than this (m) from the remembered place is remembered apart, as a
     rival place; the rival replaces the memory once more rewards were found there."""
+    stall_steps: int | None = param(400, ge=1)
+    """After this many steps homing steered without coming ``stall_progress`` nearer the place
+    (by the estimate) than it had been, homing fails as a search that found nothing does: the
+    estimate must be at a look-alike place, where the map's way is not the world's (``None``: no
+    such limit). Without it, a robot anchored in the wrong one of two look-alike rooms could press
+    against a wall for the rest of a run, the map showing a door there."""
+    stall_progress: float = param(0.5, gt=0)
+    """The progress (m) toward the place that counts for ``stall_steps``."""
 
 
 class Homing:
@@ -87,6 +95,8 @@ class Homing:
         self.searching = False  # arrived without the reward: searching round the place
         self.failures = 0  # searches that found no reward, this run
         self.bumps = 0  # bumps while homing since the last failed search, this run
+        self.closest = math.inf  # the nearest the estimate came to the place since homing last failed or started
+        self.stalled = 0  # steps homing steered since it came stall_progress nearer than that
         self.heading: float | None = None  # where to head, as of the last :meth:`plan`
 
     # ------------------------------------------------------------------ the memory
@@ -175,6 +185,7 @@ class Homing:
         self.searching = False
         self.failures = 0
         self.bumps = 0
+        self.closest, self.stalled = math.inf, 0
         self.heading = None
 
     def distance(self) -> float:
@@ -194,6 +205,7 @@ class Homing:
         target = self.remembered()
         trusted = self.localisation.trusted if self.localisation is not None else self.pi.anchored
         if target is None or not trusted:
+            self.closest, self.stalled = math.inf, 0  # (a new anchoring may put the place farther)
             return False
         here = self.pi.estimate
         (tx, ty), (x, y) = target.tolist(), here.tolist()  # (as floats: faster than on NumPy scalars)
@@ -213,6 +225,14 @@ class Homing:
             # the place itself may be by a wall, off the walkable map: path to walkable ground
             # within approach_radius of it, the ground from which the robot goes straight on
             heading = self.map.heading_to_near(here, target, c.approach_radius)
+        if heading is not None and not self.searching and c.stall_steps is not None:
+            if distance < self.closest - c.stall_progress:
+                self.closest, self.stalled = distance, 0
+            else:
+                self.stalled += 1
+                if self.stalled >= c.stall_steps:
+                    self._failed()
+                    return True
         self.heading = heading
         return False
 
@@ -244,17 +264,22 @@ class Homing:
     def _failed(self) -> None:
         self.searching = False
         self.bumps = 0
+        self.closest, self.stalled = math.inf, 0
         self.failures += 1
 
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         """(JSON-able state, arrays): what :meth:`load_state` restores."""
-        return {"searching": self.searching, "failures": self.failures, "bumps": self.bumps}, self.memory()
+        closest = None if math.isinf(self.closest) else self.closest  # (JSON has no infinity)
+        run = {"searching": self.searching, "failures": self.failures, "bumps": self.bumps, "closest": closest, "stalled": self.stalled}
+        return run, self.memory()
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
         self.restore_memory(arrays)
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
+        closest = state.get("closest")  # (saves before 0.19 hold neither)
+        self.closest, self.stalled = math.inf if closest is None else float(closest), int(state.get("stalled", 0))
 
 
 _MEMORY = ("found_sum", "found_count", "rival_sum", "rival_count")
