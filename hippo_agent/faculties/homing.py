@@ -13,9 +13,10 @@ Arrived (within ``arrived``), or stopped by a wall on the last stretch, without 
 searches the ground within ``search_radius`` of the place afresh. If that search finds nothing, or
 it bumped ``bump_limit`` times on the way into walls its map does not hold, or it steered
 ``stall_steps`` steps without coming nearer the place, its estimate must be at a look-alike place:
-:meth:`Homing.plan` and :meth:`Homing.bumped` say so, and the agent anchors afresh away from there. After ``attempts`` such failures in a run, the memory itself is taken to
-be wrong (written while misplaced, say): neither homing nor the reward map steers for the rest of
-the run (:attr:`Homing.gave_up`), and the next reward replaces the memory.
+:meth:`Homing.plan` and :meth:`Homing.bumped` say so, and the agent anchors afresh away from
+there. After ``attempts`` such failures in a run, the memory itself is taken to be wrong (written
+while misplaced, say): neither homing nor the reward map steers for the rest of the run
+(:attr:`Homing.gave_up`), and the next reward replaces the memory.
 """
 
 from __future__ import annotations
