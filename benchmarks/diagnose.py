@@ -26,7 +26,8 @@ the agent never does) and measures, per maze:
   1 m off on most of their steps), and the steps from a run's start to anchoring; the share of
   the anchored steps within 0.5 m of the truth, the share of all the runs' steps that were (the
   steps before anchoring count as not), and the share of anchored steps whose estimate lies off
-  the ground the agent's map knows (``ExplorationMap.known_ground``).
+  the ground the agent's map knows (``ExplorationMap.known_ground``), and off the ground it knew at
+  the end of the dry run (a misplaced robot's scans add ground to the map where its frame puts it).
 - **dry-run coverage**: the share of the free ground the robot's centre came within 0.5 m of
   against dry-run steps (``benchmarks.coverage``): steps to 80 % and 95 % and the share at the dry
   run's end, median over trials, and a figure of the curves beside the JSON (``.coverage.png``).
@@ -156,6 +157,8 @@ class Watcher:
         self.run_pi_errors: list[list[float]] = []  # per DMTP run, after each kidnap
         self.run_steps = 0  # steps of the DMTP runs, anchored or not
         self.off_ground = 0  # anchored steps of the DMTP runs whose estimate lies off the ground the map knows
+        self.off_dry_ground = 0  # the same, off the ground it knew at the end of the dry run
+        self.dry_ground: np.ndarray | None = None  # that ground (the map's known_free then)
         self.anchor_steps: list[int] = []
         self.progress: list[float] = []
         self.exploit_bumps = 0
@@ -191,6 +194,8 @@ class Watcher:
         finally:
             del agent.reset, agent.observe
             self.in_dry_run = False
+        if agent.map is not None:
+            self.dry_ground = agent.map.known_free.copy()
 
     def start_trial(self, trial: int) -> None:
         self.agent.start_trial(trial)
@@ -262,7 +267,9 @@ class Watcher:
             self._anchored_at = self._steps_in_run
             self.anchor_steps.append(self._steps_in_run)
         self.run_pi_errors[-1].append(error)
-        self.off_ground += self.agent.map is not None and not self.agent.map.known_ground(pi.estimate)
+        if self.agent.map is not None:
+            self.off_ground += not self.agent.map.known_ground(pi.estimate)
+            self.off_dry_ground += self.dry_ground is not None and not self.agent.map.known_ground(pi.estimate, self.dry_ground)
 
     @property
     def pi_errors(self) -> list[float]:
@@ -373,6 +380,7 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
             float(np.sum(np.array(run_errors) <= 0.5) / run_steps) if (run_steps := sum(w.run_steps for w in watchers)) else None
         ),
         "anchored_off_known_ground_share": (sum(w.off_ground for w in watchers) / len(run_errors)) if run_errors else None,
+        "anchored_off_dry_run_ground_share": (sum(w.off_dry_ground for w in watchers) / len(run_errors)) if run_errors else None,
         "anchor_steps_median": median_or_none([float(s) for w in watchers for s in w.anchor_steps]),
         "dry_run_steps_median": median_or_none([float(c.size) for c in coverage]),
         "dry_run_coverage_steps_to_80": median_or_none([steps_to(c, 0.8) for c in coverage]),

@@ -52,7 +52,7 @@ def test_diagnose_runs_and_reports_every_measure(tmp_path):
     assert record["pi_error_dry_run_median_m"] is not None and record["pi_error_dry_run_median_m"] < 0.2
     assert record["pi_error_median_m"] is not None and record["runs_misplaced_share"] is not None
     assert 0.0 <= record["run_steps_within_half_metre_share"] <= record["pi_within_half_metre_share"] <= 1.0
-    assert 0.0 <= record["anchored_off_known_ground_share"] <= 1.0
+    assert 0.0 <= record["anchored_off_known_ground_share"] <= 1.0 and 0.0 <= record["anchored_off_dry_run_ground_share"] <= 1.0
     assert record["trials"] == 1 and len(record["indirectness_median_per_run"]) == 4
 
 
@@ -75,3 +75,4 @@ def test_oracle_diagnosis_runs_with_the_true_position(tmp_path):
     record, _ = diagnose(DiagnoseArgs(maze=str(path), trials=1, dry_run_steps=300, oracle=True, config='{"model.n_place": 300}'))
     assert record["oracle_privileged"] and record["pi_error_median_m"] < 1e-9
     assert record["pi_within_half_metre_share"] == 1.0 and record["anchored_off_known_ground_share"] == 0.0
+    assert record["anchored_off_dry_run_ground_share"] == 0.0

@@ -495,10 +495,13 @@ class ExplorationMap:
         m = walkable_points(self.free, self.hits, stride, self.extent, self.cell, out)
         return out[:m].copy()
 
-    def known_ground(self, point: np.ndarray) -> bool:
-        """Whether the map knows the cell holding ``point``, or one beside it, as free ground."""
+    def known_ground(self, point: np.ndarray, known_free: np.ndarray | None = None) -> bool:
+        """Whether the map knows the cell holding ``point``, or one beside it, as free ground (or,
+        given ``known_free``, a copy of :attr:`known_free` taken earlier, whether that grid did)."""
         i, j = self.index(float(point[0]), float(point[1]))
         rows, cols = slice(max(i - 1, 0), max(i + 2, 0)), slice(max(j - 1, 0), max(j + 2, 0))
+        if known_free is not None:
+            return bool(np.any(known_free[rows, cols]))
         free, hits = self.free[rows, cols], self.hits[rows, cols]
         return bool(np.any((free > 0) & (hits < free)))
 
