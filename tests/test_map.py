@@ -245,7 +245,7 @@ def test_grid_indices_by_multiplication_equal_those_by_division():
         scan_agreement(
             m.free,
             m.hits,
-            m.new_walls,
+            m._walls(),
             0.0,
             0.0,
             False,
@@ -356,6 +356,32 @@ def test_the_state_of_the_map_loads_into_a_fresh_one_that_plans_the_same():
     ranges = ring_scan(n_rays=72, radius=2.2)
     points = np.random.default_rng(0).uniform(-2.0, 2.0, (20, 2))
     np.testing.assert_array_equal(fresh.scan_agreement(points, 0.1, ranges, 10.0), m.scan_agreement(points, 0.1, ranges, 10.0))
+
+
+def test_the_scans_fit_reads_the_walls_as_the_grids_hold_them_after_every_change():
+    """The fit reads a grid of wall kinds worked out once per revision: after each change to the
+    walls (a scan entered, a bump, a revised scan, walls forgotten) it is that of a fresh map
+    loaded with the same grids, which works the kinds out anew."""
+    m = ExplorationMap(MapConfig(extent=5.0))
+    ranges = ring_scan(n_rays=72, radius=2.2)
+    points = np.random.default_rng(1).uniform(-2.0, 2.0, (20, 2))
+
+    def as_fresh() -> None:
+        fresh = ExplorationMap(MapConfig(extent=5.0))
+        fresh.load_state(*m.state())
+        np.testing.assert_array_equal(m.scan_agreement(points, 0.1, ranges, 10.0), fresh.scan_agreement(points, 0.1, ranges, 10.0))
+
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=3.0), max_range=10.0)
+    as_fresh()
+    before = m.scan_agreement(points, 0.1, ranges, 10.0)
+    for k in range(4):  # bumps write walls round the origin, where the ring's rays end
+        m.mark_bump(np.zeros(2), k * math.pi / 2, 2.2, new=True)
+        as_fresh()
+    assert not np.array_equal(before, m.scan_agreement(points, 0.1, ranges, 10.0))
+    m.revise(np.zeros(2), 0.0, ring_scan(radius=1.5), 10.0)
+    as_fresh()
+    m.forget_new_walls()
+    as_fresh()
 
 
 @pytest.mark.parametrize("spoil", ["missing", "shape"])

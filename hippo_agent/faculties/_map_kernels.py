@@ -17,6 +17,7 @@ __all__ = [
     "search",
     "search_disk",
     "walkable_points",
+    "wall_kinds",
     "waypoint",
 ]
 
@@ -86,7 +87,7 @@ def enter_scan(
 def scan_agreement(
     free,
     hits,
-    new_walls,
+    walls,
     ox,
     oy,
     with_origin,
@@ -106,9 +107,9 @@ def scan_agreement(
     new_wall_weight,
 ):  # pragma: no cover - compiled
     """:meth:`ExplorationMap.scan_agreement` from ``(ox, oy)`` plus each of ``points``, after
-    ``(ox, oy)`` itself ``with_origin``; a short reading weighs ``short_weight``; a ray may cross a
-    wall written in a run (``new_walls``), and one ending by such a wall only weighs
-    ``new_wall_weight``. ``judged_only``: a ray ending where the map knows
+    ``(ox, oy)`` itself ``with_origin``; ``walls`` is :func:`wall_kinds` of the grids; a short
+    reading weighs ``short_weight``; a ray may cross a wall written in a run, and one ending by
+    such a wall only weighs ``new_wall_weight``. ``judged_only``: a ray ending where the map knows
     nothing is left out, and a place where no ray is judged fits 1. If ``judged`` has room, the
     first place's fit with short readings and unknown ends left out (``short_weight`` 0,
     ``judged_only``) goes there too, from the same ray march; if it has room for three, the share of
@@ -141,9 +142,7 @@ def scan_agreement(
             while t < d - 0.5:
                 a = _grid_index(x + t * c, cell, inv_cell)
                 b = _grid_index(y + t * s, cell, inv_cell)
-                if (
-                    0 <= a < n and 0 <= b < n and hits[a, b] > 0 and hits[a, b] >= free[a, b] and not new_walls[a, b]
-                ):  # (a wall, written out: faster)
+                if 0 <= a < n and 0 <= b < n and walls[a, b] == OLD_WALL:
                     through = True
                     break
                 t += 0.5
@@ -163,8 +162,8 @@ def scan_agreement(
                 counted += 1.0
                 counted_judged += 1.0
                 continue
-            beside = walls_beside(free, hits, new_walls, i, j)
-            if beside == 2:
+            beside = _wall_kind_beside(walls, i, j)
+            if beside == OLD_WALL:
                 counted += 1.0
                 total += 1.0
                 counted_judged += 1.0
@@ -209,6 +208,38 @@ def _through_the_middle(free, hits, a, b, x, y, c, s, cell):  # pragma: no cover
                 elif side < -0.2:
                     right = True
     return left and right
+
+
+#: :func:`wall_kinds`' values: no wall, a wall written in a run, a wall from the dry run.
+NO_WALL, NEW_WALL, OLD_WALL = 0, 1, 2
+
+
+@njit(cache=True)
+def wall_kinds(free, hits, new_walls, out):  # pragma: no cover - compiled
+    """Each cell's kind of wall into ``out`` (uint8): ``OLD_WALL`` where the map holds a wall not
+    written in a run, ``NEW_WALL`` where it holds one written in a run, else ``NO_WALL``. The fit
+    of a scan reads one grid, not three, at every step of its ray marches."""
+    n = free.shape[0]
+    for i in range(n):
+        for j in range(n):
+            if hits[i, j] > 0 and hits[i, j] >= free[i, j]:
+                out[i, j] = NEW_WALL if new_walls[i, j] else OLD_WALL
+            else:
+                out[i, j] = NO_WALL
+
+
+@njit(cache=True, inline="always")
+def _wall_kind_beside(walls, i, j):  # pragma: no cover - compiled
+    """:func:`walls_beside` read from :func:`wall_kinds`' grid: the strongest kind in the 3 x 3 cells round ``(i, j)``."""
+    found = NO_WALL
+    for a in range(i - 1, i + 2):
+        for b in range(j - 1, j + 2):
+            kind = walls[a, b]
+            if kind == OLD_WALL:
+                return OLD_WALL
+            if kind == NEW_WALL:
+                found = NEW_WALL
+    return found
 
 
 @njit(cache=True, inline="always")

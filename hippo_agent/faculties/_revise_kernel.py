@@ -84,25 +84,29 @@ def revise_scan(
                 elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
                     change[i, j] = 0  # free, as the map holds
             inside += 1
-            wall = hits[i, j] > 0 and hits[i, j] >= free[i, j]
-            gone = new_evidence if new_walls[i, j] else gone_evidence
-            if wall and gone > 0 and inside == 2 and t + cell < d and t < gone_range and stamp[i, j] != scan_id:
-                stamp[i, j] = scan_id
-                if _hit_near(hit_stamp, i, j, scan_id):
-                    change[i, j] = 0  # a ray ended by it: the wall is there
-                    t += step
-                    continue
-                if vantage[i, j] == here:  # crossed from this cell before
-                    t += step
-                    continue
-                vantage[i, j] = here
-                change[i, j] += 1
-                if change[i, j] >= gone:  # the wall is gone
-                    hits[i, j] = 0
-                    new_walls[i, j] = False
-                    free[i, j] = max(free[i, j], 1)
-                    change[i, j] = 0
-                    changed += 1
+            # a wall crossed through its middle (the cheap tests first: most samples are not a cell's second)
+            if (
+                inside == 2
+                and t + cell < d
+                and t < gone_range
+                and stamp[i, j] != scan_id
+                and hits[i, j] > 0
+                and hits[i, j] >= free[i, j]
+            ):
+                gone = new_evidence if new_walls[i, j] else gone_evidence
+                if gone > 0:
+                    stamp[i, j] = scan_id
+                    if _hit_near(hit_stamp, i, j, scan_id):
+                        change[i, j] = 0  # a ray ended by it: the wall is there
+                    elif vantage[i, j] != here:  # (crossed from this cell before: no new evidence)
+                        vantage[i, j] = here
+                        change[i, j] += 1
+                        if change[i, j] >= gone:  # the wall is gone
+                            hits[i, j] = 0
+                            new_walls[i, j] = False
+                            free[i, j] = max(free[i, j], 1)
+                            change[i, j] = 0
+                            changed += 1
             t += step
         if not (d < hit_range and d < max_range * 0.999):
             continue

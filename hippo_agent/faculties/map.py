@@ -49,6 +49,7 @@ from hippo_agent.faculties._map_kernels import (
     search,
     search_disk,
     walkable_points,
+    wall_kinds,
     waypoint,
 )
 from hippo_agent.faculties._revise_kernel import revise_scan
@@ -158,6 +159,10 @@ class ExplorationMap:
         # counts the changes to what the grids say of a cell (known free, a wall): all the searches,
         # walkability and the scan's fit read of free and hits (a count that changes neither is not one)
         self.revision = 0
+        # each cell's kind of wall (wall_kinds), as of the revision in _wall_kinds_revision: what
+        # the scan's fit reads, worked out again only when the grids have changed
+        self._wall_kinds = np.zeros((n, n), dtype=np.uint8)
+        self._wall_kinds_revision = -1
         # the last search whose result the grids and the ground it looks for decide (to a cell, to
         # ground not yet visited or searched, into a disk): its start cell, target, disk, squeeze,
         # the grids' revision and that ground's changes (_marks), and the cell found (its path back
@@ -317,7 +322,7 @@ class ExplorationMap:
         out = np.empty(points.shape[0] + (around is not None))
         stride = max(1, round(ranges.size * self.agreement_stride_deg / 360.0))
         scan_agreement(
-            self.free, self.hits, self.new_walls, x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
+            self.free, self.hits, self._walls(), x, y, around is not None, points, float(heading), ranges, stride, float(max_range), self.extent,
             self.cell, self._inv_cell, self.hit_range, float(short_weight), bool(judged_only), out,
             _NO_JUDGED if judged is None else judged, float(new_wall_weight),
         )  # fmt: skip
@@ -449,6 +454,13 @@ class ExplorationMap:
             )
         )  # fmt: skip
         return math.atan2(wy - y, wx - x)
+
+    def _walls(self) -> np.ndarray:
+        """Each cell's kind of wall (:func:`wall_kinds`) for the grids as they are (:attr:`revision`)."""
+        if self._wall_kinds_revision != self.revision:
+            wall_kinds(self.free, self.hits, self.new_walls, self._wall_kinds)
+            self._wall_kinds_revision = self.revision
+        return self._wall_kinds
 
     def _walk_id(self) -> int:
         """The id under which the searches cache walkability: a new one whenever the grids have
