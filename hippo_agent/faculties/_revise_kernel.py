@@ -85,14 +85,7 @@ def revise_scan(
                     change[i, j] = 0  # free, as the map holds
             inside += 1
             # a wall crossed through its middle (the cheap tests first: most samples are not a cell's second)
-            if (
-                inside == 2
-                and t + cell < d
-                and t < gone_range
-                and stamp[i, j] != scan_id
-                and hits[i, j] > 0
-                and hits[i, j] >= free[i, j]
-            ):
+            if inside == 2 and t + cell < d and t < gone_range and stamp[i, j] != scan_id and hits[i, j] > 0 and hits[i, j] >= free[i, j]:
                 gone = new_evidence if new_walls[i, j] else gone_evidence
                 if gone > 0:
                     stamp[i, j] = scan_id
