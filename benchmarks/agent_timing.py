@@ -70,8 +70,12 @@ def make_config(model: str, n_place: int, dry_run_steps: int, overrides: dict[st
     sizes = {"model.n_place": n_place, "model.dry_run_steps": dry_run_steps}
     if model == "paper":
         return AgentConfig.paper().with_values(sizes)
-    # the cost of n_place cells: no recruitment beyond them
-    return AgentConfig().with_values({**sizes, "exploration.place_cells_per_m2": 0.0, **(overrides or {})})
+    # the cost of n_place cells: no recruitment beyond them; and homing that never gives up for want
+    # of progress: the recorded walk does not follow the agent's heading, so it comes no nearer the
+    # goal, and the stall check (one comparison a step) would end homing, and the exploiting, after
+    # homing.stall_steps steps of it
+    timing = {"exploration.place_cells_per_m2": 0.0, "homing.stall_steps": None}
+    return AgentConfig().with_values({**sizes, **timing, **(overrides or {})})
 
 
 class TimedEnv(gym.Wrapper):

@@ -208,3 +208,14 @@ def test_the_exploring_walk_hides_the_remembered_place_so_the_default_model_sear
             decisions = dict(agent.episode_stats)
         assert (decisions["home"] > 0) == exploit, decisions
         assert np.array_equal(agent.homing.remembered(), place)
+
+
+def test_the_exploiting_walk_keeps_heading_for_the_goal_past_homings_stall_check():
+    """The recorded walk does not follow the agent's heading, so it seldom comes nearer the goal;
+    the timed agent's homing does not give up for that (``homing.stall_steps`` off), and the walk
+    stays goal-directed. (With the stall check on, 64 % of these steps were; with it off, 89 %.)"""
+    env, agent, *_ = agent_timing.trained("default", 300, dry_run_steps=3000, n_rays=720, seed=0)
+    recorded = agent_timing.recorded_walk(env, 3000, seed=0)
+    with agent_timing.heading_for_the_goal(agent, exploit=True):
+        agent_timing.walk(agent, recorded)
+    assert records.exploit_share(agent.episode_stats) >= 0.8, agent.episode_stats
