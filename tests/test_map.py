@@ -229,7 +229,7 @@ def test_the_judged_fit_from_the_same_ray_march_equals_its_own_call():
 def test_grid_indices_by_multiplication_equal_those_by_division():
     """A power-of-two cell (the default 0.25 m) lets the ray marches multiply by 1 / cell instead of
     dividing: the scan's fit from many places is the same either way. Any other cell divides."""
-    from hippo_agent.faculties._map_kernels import scan_agreement
+    from hippo_agent.faculties._fit_kernel import scan_agreement
 
     m = ExplorationMap(MapConfig(extent=8.0))
     for x in (-1.0, 0.0, 1.0):

@@ -39,17 +39,16 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from hippo_agent.faculties._fit_kernel import scan_agreement, wall_kinds
 from hippo_agent.faculties._map_kernels import (
     enter_scan,
     known_with_steps,
     lines_clear,
     mark_disk,
     path_to,
-    scan_agreement,
     search,
     search_disk,
     walkable_points,
-    wall_kinds,
     waypoint,
 )
 from hippo_agent.faculties._revise_kernel import revise_scan
