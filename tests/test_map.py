@@ -447,6 +447,27 @@ def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_
     assert _wall(held, east)
 
 
+def test_with_gone_paired_a_wall_is_cleared_only_where_rays_beside_each_other_see_through_it():
+    """One ray through a wall, its neighbours ending short of it (at a small error in the estimate,
+    a ray grazing a thin wall), is no evidence with ``gone_paired``; an opening seen over three rays is."""
+
+    def after(scan: np.ndarray, paired: bool) -> ExplorationMap:
+        m = ExplorationMap(MapConfig(extent=6.0, gone_wall_evidence=3, gone_paired=paired))
+        m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
+        for k in range(6):
+            m.revise(_pacing(k), 0.0, scan, max_range=10.0)
+        return m
+
+    alone = _ring(3.0)
+    alone[[710, 10]] = 2.0  # the map's rays beside the east one (5 degrees off) end 2 m out
+    alone[0] = 5.0  # the east ray passes the wall
+    opening = alone.copy()
+    opening[[710, 10]] = 5.0  # three of the map's rays pass: an opening about 0.5 m wide
+    for scan, paired, cleared in ((alone, False, True), (alone, True, False), (opening, True, True)):
+        m = after(scan, paired)
+        assert _wall(m, m.index(3.0, 0.0)) is not cleared, (paired, cleared)
+
+
 def test_a_robot_standing_still_counts_a_crossing_once():
     """The same crossing seen again from the cell the robot stood in at the last count is no new
     evidence (a robot turning on the spot, say, scans the same rays again)."""

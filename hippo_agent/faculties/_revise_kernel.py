@@ -4,6 +4,7 @@ addressed ``(i, j)`` with ``i`` along x, as in :mod:`hippo_agent.faculties._map_
 
 import math
 
+import numpy as np
 from numba import njit
 
 from hippo_agent.faculties._map_kernels import _grid_index, walls_beside
@@ -36,6 +37,7 @@ def revise_scan(
     new_evidence,
     gone_evidence,
     write_new,
+    paired,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
@@ -48,7 +50,8 @@ def revise_scan(
     cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
     boundary is made a wall, marked in ``new_walls`` (0 or not ``write_new``: never). A reading that agrees with
     a cell resets its count. Rays enter cells up to ``free_range`` and cross walls up to
-    ``gone_range``. Returns how many cells changed."""
+    ``gone_range``. With ``paired``, a crossing counts only if a ray beside it crossed a wall
+    near it too (:func:`_seen_through`). Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
     here = _grid_index(x + extent, cell, inv_cell) * n + _grid_index(y + extent, cell, inv_cell)
@@ -62,11 +65,14 @@ def revise_scan(
             j = _grid_index(y + d * math.sin(angle) + extent, cell, inv_cell)
             if 0 <= i < n and 0 <= j < n:
                 hit_stamp[i, j] = scan_id
+    m = (n_rays + stride - 1) // stride
+    crossed = np.full(m if paired else 0, -2, dtype=np.int64)  # each ray's first crossing, worked out when asked (-2)
     for r in range(0, n_rays, stride):
         angle = heading + 2.0 * math.pi * r / n_rays
         c, s = math.cos(angle), math.sin(angle)
         d = float(ranges[r])
         reach = min(d - step, max(free_range, gone_range))
+        q = r // stride
         t = 0.0
         last_i, last_j, inside = -1, -1, 0
         while t < reach:
@@ -87,7 +93,10 @@ def revise_scan(
             # a wall crossed through its middle (the cheap tests first: most samples are not a cell's second)
             if inside == 2 and t + cell < d and t < gone_range and stamp[i, j] != scan_id and hits[i, j] > 0 and hits[i, j] >= free[i, j]:
                 gone = new_evidence if new_walls[i, j] else gone_evidence
-                if gone > 0:
+                if gone > 0 and (
+                    not paired
+                    or _seen_through(crossed, q, i, j, free, hits, x, y, heading, ranges, stride, extent, cell, inv_cell, gone_range)
+                ):
                     stamp[i, j] = scan_id
                     if _hit_near(hit_stamp, i, j, scan_id):
                         change[i, j] = 0  # a ray ended by it: the wall is there
@@ -133,4 +142,48 @@ def _hit_near(hit_stamp, i, j, scan_id):  # pragma: no cover - compiled
         for b in range(max(j - 1, 0), min(j + 2, n)):
             if hit_stamp[a, b] == scan_id:
                 return True
+    return False
+
+
+@njit(cache=True)
+def _first_crossing(free, hits, x, y, heading, ranges, stride, q, extent, cell, inv_cell, gone_range):  # pragma: no cover - compiled
+    """The flat index of the first wall cell ray ``q`` (every ``stride``-th ray) crosses through its
+    middle (two samples in the cell, ending at least a cell beyond), up to ``gone_range``; -1 if none."""
+    n = free.shape[0]
+    step = cell * 0.5
+    angle = heading + 2.0 * math.pi * (q * stride) / ranges.size
+    c, s = math.cos(angle), math.sin(angle)
+    d = float(ranges[q * stride])
+    t = 0.0
+    last_i, last_j, inside = -1, -1, 0
+    while t < gone_range and t + cell < d:
+        i = _grid_index(x + t * c + extent, cell, inv_cell)
+        j = _grid_index(y + t * s + extent, cell, inv_cell)
+        if i < 0 or j < 0 or i >= n or j >= n:
+            break
+        if i != last_i or j != last_j:
+            last_i, last_j, inside = i, j, 0
+        inside += 1
+        if inside == 2 and hits[i, j] > 0 and hits[i, j] >= free[i, j]:
+            return i * n + j
+        t += step
+    return -1
+
+
+@njit(cache=True)
+def _seen_through(
+    crossed, q, i, j, free, hits, x, y, heading, ranges, stride, extent, cell, inv_cell, gone_range
+):  # pragma: no cover - compiled
+    """Whether ray ``q``'s neighbour on either side first crossed a wall within two cells of ``(i, j)``
+    (``crossed``: each ray's :func:`_first_crossing`, -2 until worked out: only for the rays beside a
+    crossing, which are few): the scan sees through the wall there over more than one ray, as
+    through an opening, not one ray grazing it at a small error in the estimate."""
+    n = free.shape[0]
+    m = crossed.size
+    for r in ((q + m - 1) % m, (q + 1) % m):
+        if crossed[r] == -2:
+            crossed[r] = _first_crossing(free, hits, x, y, heading, ranges, stride, r, extent, cell, inv_cell, gone_range)
+        k = crossed[r]
+        if k >= 0 and abs(k // n - i) <= 2 and abs(k % n - j) <= 2:
+            return True
     return False

@@ -95,15 +95,19 @@ class MapConfig(Section):
     """In runs, while the robot is well placed, a boundary seen on ground the map holds free, with
     no wall beside it, in this many scans in a row becomes a wall; a bump on such ground makes it
     one at once (``None``: runs enter only cells the map knows nothing of)."""
-    gone_wall_evidence: int | None = param(15, ge=1)
+    gone_wall_evidence: int | None = param(5, ge=1)
     """In runs, while the robot is well placed, a wall the map holds that rays cross in this many
-    scans in a row, each from another cell than the last, is cleared (``None``: never). More than
-    for a new wall: a ray grazing a wall's cell at a small error in the estimate crosses it too,
-    and a wall wrongly cleared costs a bump."""
-    gone_range: float = param(4.0, gt=0)
+    scans in a row, each from another cell than the last, is cleared (``None``: never). A ray
+    grazing a wall's cell at a small error in the estimate crosses it too, and a wall wrongly
+    cleared costs a bump: with ``gone_paired`` such lone crossings do not count."""
+    gone_range: float = param(6.0, gt=0)
     """A ray crossing a wall the map holds counts toward clearing it up to this distance (m); above
-    ``free_range``, doors are seen from farther, and so are a thin wall's cells grazed at a small
-    error in the estimate (``benchmarks/results/gone_range/``)."""
+    ``free_range``: a door is seen through from farther than the map is filled in."""
+    gone_paired: bool = param(True)
+    """A ray counts toward clearing a wall only if a ray beside it in the scan (``ray_stride_deg``
+    to either side) first crossed a wall within two cells of it too: an opening is seen through over
+    several rays; a ray grazing a thin wall at a small error in the estimate, or passing a wall's
+    end, is alone."""
 
 
 class ExplorationMap:
@@ -229,7 +233,7 @@ class ExplorationMap:
         if revise_scan(
             self.free, self.hits, self.new_walls, self.change, self.vantage, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
-            self.gone_range, self.hit_range, new or 0, gone or 0, bool(write_new),
+            self.gone_range, self.hit_range, new or 0, gone or 0, bool(write_new), bool(self.config.gone_paired),
         ):  # fmt: skip
             self.revision += 1
         self.mark(position, search_radius)
