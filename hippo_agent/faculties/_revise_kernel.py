@@ -74,14 +74,12 @@ def revise_scan(
         reach = min(d - step, max(free_range, gone_range))
         q = r // stride
         t = 0.0
-        last_i, last_j, inside = -1, -1, 0
+        i, j, inside = -1, -1, 0
         while t < reach:
-            i = _grid_index(x + t * c + extent, cell, inv_cell)
-            j = _grid_index(y + t * s + extent, cell, inv_cell)
-            if i < 0 or j < 0 or i >= n or j >= n:
+            i, j, inside = _sample(x, y, t, c, s, extent, cell, inv_cell, n, i, j, inside)
+            if inside == 0:
                 break
-            if i != last_i or j != last_j:
-                last_i, last_j, inside = i, j, 0
+            if inside == 1:  # a cell entered
                 if t >= free_range:
                     pass  # beyond the range that enters cells: only a wall crossed counts
                 elif free[i, j] == 0 and hits[i, j] == 0:
@@ -89,7 +87,6 @@ def revise_scan(
                     changed += 1
                 elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
                     change[i, j] = 0  # free, as the map holds
-            inside += 1
             # a wall crossed through its middle (the cheap tests first: most samples are not a cell's second)
             if inside == 2 and t + cell < d and t < gone_range and stamp[i, j] != scan_id and hits[i, j] > 0 and hits[i, j] >= free[i, j]:
                 gone = new_evidence if new_walls[i, j] else gone_evidence
@@ -155,15 +152,11 @@ def _first_crossing(free, hits, x, y, heading, ranges, stride, q, extent, cell, 
     c, s = math.cos(angle), math.sin(angle)
     d = float(ranges[q * stride])
     t = 0.0
-    last_i, last_j, inside = -1, -1, 0
+    i, j, inside = -1, -1, 0
     while t < gone_range and t + cell < d:
-        i = _grid_index(x + t * c + extent, cell, inv_cell)
-        j = _grid_index(y + t * s + extent, cell, inv_cell)
-        if i < 0 or j < 0 or i >= n or j >= n:
+        i, j, inside = _sample(x, y, t, c, s, extent, cell, inv_cell, n, i, j, inside)
+        if inside == 0:
             break
-        if i != last_i or j != last_j:
-            last_i, last_j, inside = i, j, 0
-        inside += 1
         if inside == 2 and hits[i, j] > 0 and hits[i, j] >= free[i, j]:
             return i * n + j
         t += step
@@ -187,3 +180,15 @@ def _seen_through(
         if k >= 0 and abs(k // n - i) <= 2 and abs(k % n - j) <= 2:
             return True
     return False
+
+
+@njit(cache=True, inline="always")
+def _sample(x, y, t, c, s, extent, cell, inv_cell, n, last_i, last_j, inside):  # pragma: no cover - compiled
+    """A ray's sample at distance ``t`` along ``(c, s)`` from ``(x, y)``: its cell, and how many
+    samples in a row (this one included) fell in that cell, given the last sample's cell and count;
+    0 off the grid."""
+    i = _grid_index(x + t * c + extent, cell, inv_cell)
+    j = _grid_index(y + t * s + extent, cell, inv_cell)
+    if i < 0 or j < 0 or i >= n or j >= n:
+        return i, j, 0
+    return i, j, inside + 1 if i == last_i and j == last_j else 1
