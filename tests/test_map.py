@@ -624,6 +624,29 @@ def test_a_search_is_reused_only_while_the_ground_it_looks_for_is_unchanged():
             m.forget_searched_near(here, 1.0)
 
 
+def test_a_path_after_the_search_everywhere_is_the_one_a_search_to_its_cell_finds():
+    """After ``reachable_visited`` (a transit's choice of destination), the path to a cell it reached
+    is read from that search where it is the same (the robot not by a wall), not searched again: from
+    starts in the open and beside walls, the path is the one a map with no earlier search gives."""
+    m = ExplorationMap(MapConfig(extent=8.0))
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=4.0), max_range=10.0)
+    for x in np.arange(-1.0, 1.0, 0.1):  # a wall across the middle, so that paths bend
+        m.mark_bump(np.array([x, 0.5]), math.pi / 2, 0.3)
+    for y in np.arange(-3.0, 3.0, 0.5):
+        m.mark(np.array([0.0, y]))
+    reused = 0
+    for start in ([0.0, -1.0], [2.0, 0.5], [0.0, -3.3], [-1.3, 0.8], [3.2, 0.0]):  # in the open, by walls
+        cells, _ = m.reachable_visited(np.array(start))
+        twin = ExplorationMap(m.config)
+        twin.load_state(*m.state())
+        for target in cells[:: max(1, len(cells) // 5)]:
+            before = int(m._search_id[0])
+            np.testing.assert_array_equal(m.path(np.array(start), int(target)), twin.path(np.array(start), int(target)))
+            reused += int(m._search_id[0]) == before
+            cells_again, _ = m.reachable_visited(np.array(start))
+    assert reused > 0
+
+
 @pytest.mark.parametrize(("wall_from", "middle"), [(-2.0, True), (0.0, False)])
 def test_a_ray_through_a_walls_middle_is_told_from_one_clipping_its_end(wall_from, middle):
     """Localisation's evidence of a wrong place where the world changed (``scan_agreement`` with a

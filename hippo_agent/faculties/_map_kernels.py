@@ -250,6 +250,21 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
 
 
 @njit(cache=True)
+def start_free_is_walkable(free, hits, i0, j0, walk_cache, walk_id):  # pragma: no cover - compiled
+    """Whether every free cell that is not a wall within two steps of ``(i0, j0)`` is walkable: then
+    the leave a search from there gives the robot near its start (:func:`search`'s ``near``) changes
+    nothing, and a search to any one cell finds the path the search everywhere reachable found."""
+    n = free.shape[0]
+    free_, hits_ = free.reshape(n * n), hits.reshape(n * n)
+    for i in range(max(i0 - 2, 0), min(i0 + 3, n)):
+        for j in range(max(j0 - 2, 0), min(j0 + 3, n)):
+            k = i * n + j
+            if _free_not_wall(free_, hits_, k, n) and not _walkable_once(free_, hits_, k, n, walk_cache, walk_id):
+                return False
+    return True
+
+
+@njit(cache=True)
 def search_disk(
     free, hits, known, i0, j0, dx, dy, dr, squeeze, search_id, stamp, closed, parent, steps, heap, heap_cells, walk_cache, walk_id
 ):  # pragma: no cover - compiled

@@ -48,6 +48,7 @@ from hippo_agent.faculties._map_kernels import (
     path_to,
     search,
     search_disk,
+    start_free_is_walkable,
     walkable_points,
     waypoint,
 )
@@ -172,6 +173,9 @@ class ExplorationMap:
         # is in _parent until the next search)
         self._last_plan: tuple[Any, ...] | None = None
         self._last_found = -1
+        # (start cell, revision) of the last search everywhere reachable (reachable_visited) while its
+        # paths, still in _parent, are those a search to any cell it reached would find; else None
+        self._tree: tuple[int, int, int] | None = None
         self._marks = 0  # changes to visited and searched, which a search for ground they do not hold depends on
 
     # ------------------------------------------------------------------ senses
@@ -381,10 +385,14 @@ class ExplorationMap:
         i, j = self.index(float(position[0]), float(position[1]))
         self._search_id[0] += 1
         self._last_plan = None  # (this search overwrites the last one's paths)
+        walk_id = self._walk_id()
         _, reached = search(
             self.free, self.hits, self.visited, i, j, -2, self._stamp, self._parent, self._queue, self._search_id[0], False,
-            self._walk_cache, self._walk_id(),
+            self._walk_cache, walk_id,
         )  # fmt: skip
+        # the paths to every cell reached are those a search to that cell would find, unless the
+        # robot stands by a wall (the searches to a cell let it leave by free cells): kept for _find
+        self._tree = (i, j, self.revision) if reached and start_free_is_walkable(self.free, self.hits, i, j, self._walk_cache, walk_id) else None
         return known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
     def path(
@@ -419,6 +427,17 @@ class ExplorationMap:
             plan = (i, j, int(target), where, squeeze, self.revision, id(known), 0 if known is self._nothing else self._marks)
         if plan is not None and plan == self._last_plan:
             return self._last_found  # the same start cell, target, grids and ground to reach: the same path
+        if (
+            disk is None
+            and target >= 0
+            and not squeeze
+            and self._tree == (i, j, self.revision)
+            and self._stamp[target] == self._search_id[0]
+            and target != i * self.n + j
+        ):
+            self._last_plan, self._last_found = plan, int(target)  # reached by the search everywhere from here: its path
+            return int(target)
+        self._tree = None  # (this search overwrites the paths)
         self._search_id[0] += 1
         if disk is None:
             found, _ = search(
