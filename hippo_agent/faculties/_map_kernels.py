@@ -44,7 +44,7 @@ def enter_scan(
     (with ``unknown_only``, only cells neither free nor hit so far). Returns how many cells changed
     what the map says of them (known free, a wall); a count that changes neither is not counted
     (the searches and the fits read only that). The walkability remembered of the cells round each
-    cell that changed is forgotten (``walk_cache``, :func:`_walkable_once`): only theirs depends on it."""
+    cell that changed is forgotten (``walk_cache``, :func:`_walk_known`): only theirs depends on it."""
     n = free.shape[0]
     changed = 0
     n_rays = ranges.size
@@ -160,24 +160,30 @@ def _free_not_wall(free, hits, k, n):  # pragma: no cover - compiled
     return 1 <= i < n - 1 and 1 <= j < n - 1 and free[k] > 0 and not _is_wall(free, hits, k)
 
 
+# Whether a cell is walkable is remembered in ``walk_cache`` as ``2 walk_id + walkable``: one id per
+# state of the grids, so that searches on unchanged grids reuse what earlier ones worked out (one
+# array for the id and the answer: a search reads one entry per cell, not two). A search asks in two
+# steps, :func:`_walk_known` and, for a cell not yet worked out, :func:`_walk_learnt`, written out
+# where it asks: a compiled helper that writes into an array costs reference counting at every call,
+# even where the write is skipped (measured: the breadth-first search of the open arena's map took
+# 112 us with the question in one such helper, 14 us so). A cell the search may pass is walkable, or
+# near its start (``near``) at least free and not a wall (:func:`_free_not_wall`).
+
+
 @njit(cache=True, inline="always")
-def _walkable_once(free, hits, k, n, walk_cache, walk_id):  # pragma: no cover - compiled
-    """:func:`_walkable`, remembered in ``walk_cache`` as ``2 walk_id + walkable``: one id per
-    state of the grids, so that searches on unchanged grids reuse what earlier ones worked out.
-    (One array for the id and the answer: a search reads one entry per cell, not two.)"""
+def _walk_known(walk_cache, k, walk_id):  # pragma: no cover - compiled
+    """1 if cell ``k`` is walkable, 0 if not, -1 if not yet worked out for these grids
+    (:func:`_walk_learnt`)."""
     cached = walk_cache[k]
-    if (cached >> 1) == walk_id:
-        return (cached & 1) == 1
+    return cached & 1 if (cached >> 1) == walk_id else -1
+
+
+@njit(cache=True, inline="always")
+def _walk_learnt(free, hits, k, n, walk_cache, walk_id):  # pragma: no cover - compiled
+    """Whether cell ``k`` is walkable (:func:`_walkable`), remembered for these grids."""
     walkable = _walkable(free, hits, k, n)
     walk_cache[k] = 2 * walk_id + walkable
-    return walkable
-
-
-@njit(cache=True, inline="always")
-def _passable_once(free, hits, k, n, near_start, walk_cache, walk_id):  # pragma: no cover - compiled
-    """Walkable (:func:`_walkable_once`), or (near the start: within two steps of it, or ``squeeze``)
-    at least free and not a wall."""
-    return _walkable_once(free, hits, k, n, walk_cache, walk_id) or (near_start and _free_not_wall(free, hits, k, n))
+    return int(walkable)
 
 
 # the 8 neighbours of a cell, in the order the searches try them: the row and column of each step
@@ -192,16 +198,10 @@ def _step_to(cur, d, n):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _corner_clear(free, hits, cur, d, n, near, walk_cache, walk_id):  # pragma: no cover - compiled
-    """For a step from ``cur`` to its passable neighbour ``d``: not a diagonal step, or both cells
-    beside it passable (no corner cutting)."""
-    if d == 1 or d == 3 or d == 4 or d == 6:
-        return True
-    row = cur - n if d < 3 else cur + n
-    column = cur - 1 if d == 0 or d == 5 else cur + 1
-    return _passable_once(free, hits, row, n, near, walk_cache, walk_id) and _passable_once(
-        free, hits, column, n, near, walk_cache, walk_id
-    )
+def _beside_diagonal(cur, d, n):  # pragma: no cover - compiled
+    """The two cells beside the diagonal step ``d`` from ``cur`` (the row's, then the column's):
+    both must be passable (no corner cutting)."""
+    return cur - n if d < 3 else cur + n, cur - 1 if d == 0 or d == 5 else cur + 1
 
 
 @njit(cache=True)
@@ -212,7 +212,7 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
     that is not a wall. Returns the flat index of the cell found (its path back to the start
     through ``parent``), or -1 if there is none (or the robot is there), and the number of cells
     reached (``queue[:reached]``, in the order reached). ``walk_cache`` and ``walk_id``:
-    each cell's walkability, worked out once per state of the grids (:func:`_walkable_once`)."""
+    each cell's walkability, worked out once per state of the grids (:func:`_walk_known`)."""
     n = free.shape[0]
     if i0 < 1 or j0 < 1 or i0 >= n - 1 or j0 >= n - 1:
         return -1, 0
@@ -233,15 +233,34 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
                 if cur == target:
                     found = cur
                     break
-            elif target == -1 and not known_[cur] and _walkable_once(free_, hits_, cur, n, walk_cache, walk_id):
-                found = cur
-                break
+            elif target == -1 and not known_[cur]:
+                walkable = _walk_known(walk_cache, cur, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, cur, n, walk_cache, walk_id)
+                if walkable:
+                    found = cur
+                    break
         for d in range(8):
             nxt = _step_to(cur, d, n)
-            if stamp[nxt] == search_id or not _passable_once(free_, hits_, nxt, n, near, walk_cache, walk_id):
+            if stamp[nxt] == search_id:
                 continue
-            if not _corner_clear(free_, hits_, cur, d, n, near, walk_cache, walk_id):
+            walkable = _walk_known(walk_cache, nxt, walk_id)
+            if walkable < 0:
+                walkable = _walk_learnt(free_, hits_, nxt, n, walk_cache, walk_id)
+            if walkable == 0 and not (near and _free_not_wall(free_, hits_, nxt, n)):
                 continue
+            if not (d == 1 or d == 3 or d == 4 or d == 6):  # a diagonal step
+                row, column = _beside_diagonal(cur, d, n)
+                walkable = _walk_known(walk_cache, row, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, row, n, walk_cache, walk_id)
+                if walkable == 0 and not (near and _free_not_wall(free_, hits_, row, n)):
+                    continue
+                walkable = _walk_known(walk_cache, column, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, column, n, walk_cache, walk_id)
+                if walkable == 0 and not (near and _free_not_wall(free_, hits_, column, n)):
+                    continue
             stamp[nxt] = search_id
             parent[nxt] = cur
             queue[tail] = nxt
@@ -252,15 +271,19 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
 @njit(cache=True)
 def start_free_is_walkable(free, hits, i0, j0, walk_cache, walk_id):  # pragma: no cover - compiled
     """Whether every free cell that is not a wall within two steps of ``(i0, j0)`` is walkable: then
-    the leave a search from there gives the robot near its start (:func:`search`'s ``near``) changes
-    nothing, and a search to any one cell finds the path the search everywhere reachable found."""
+    letting a search leave its start over such cells (:func:`search`'s ``near``) changes nothing,
+    and a search to any one cell finds the path that the search everywhere reachable found."""
     n = free.shape[0]
     free_, hits_ = free.reshape(n * n), hits.reshape(n * n)
     for i in range(max(i0 - 2, 0), min(i0 + 3, n)):
         for j in range(max(j0 - 2, 0), min(j0 + 3, n)):
             k = i * n + j
-            if _free_not_wall(free_, hits_, k, n) and not _walkable_once(free_, hits_, k, n, walk_cache, walk_id):
-                return False
+            if _free_not_wall(free_, hits_, k, n):
+                walkable = _walk_known(walk_cache, k, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, k, n, walk_cache, walk_id)
+                if walkable == 0:
+                    return False
     return True
 
 
@@ -296,23 +319,35 @@ def search_disk(
             continue  # an older entry of a cell since reached by a shorter path
         closed[cur] = search_id
         ci, cj = cur // n, cur % n
-        if (
-            cur != start
-            and not known_[cur]
-            and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr
-            and _walkable_once(free_, hits_, cur, n, walk_cache, walk_id)
-        ):
-            return cur
+        if cur != start and not known_[cur] and (ci + 0.5 - dx) ** 2 + (cj + 0.5 - dy) ** 2 <= dr * dr:
+            walkable = _walk_known(walk_cache, cur, walk_id)
+            if walkable < 0:
+                walkable = _walk_learnt(free_, hits_, cur, n, walk_cache, walk_id)
+            if walkable:
+                return cur
         near = squeeze or cur == start or parent[cur] == start
         g = steps[cur] + 1
         for d in range(8):
             nxt = _step_to(cur, d, n)
             if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
                 continue
-            if not _passable_once(free_, hits_, nxt, n, near, walk_cache, walk_id):
+            walkable = _walk_known(walk_cache, nxt, walk_id)
+            if walkable < 0:
+                walkable = _walk_learnt(free_, hits_, nxt, n, walk_cache, walk_id)
+            if walkable == 0 and not (near and _free_not_wall(free_, hits_, nxt, n)):
                 continue
-            if not _corner_clear(free_, hits_, cur, d, n, near, walk_cache, walk_id):
-                continue
+            if not (d == 1 or d == 3 or d == 4 or d == 6):  # a diagonal step
+                row, column = _beside_diagonal(cur, d, n)
+                walkable = _walk_known(walk_cache, row, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, row, n, walk_cache, walk_id)
+                if walkable == 0 and not (near and _free_not_wall(free_, hits_, row, n)):
+                    continue
+                walkable = _walk_known(walk_cache, column, walk_id)
+                if walkable < 0:
+                    walkable = _walk_learnt(free_, hits_, column, n, walk_cache, walk_id)
+                if walkable == 0 and not (near and _free_not_wall(free_, hits_, column, n)):
+                    continue
             stamp[nxt] = search_id
             parent[nxt] = cur
             steps[nxt] = g
@@ -407,8 +442,8 @@ def lines_clear(free, hits, gx, gy, tx, ty, nx, ny, margin, walk_cache, walk_id)
 @njit(cache=True)
 def _line_clear(free, hits, n, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  # pragma: no cover - compiled
     """Whether the straight line from ``(gx, gy)`` to ``(tx, ty)`` (grid units), sampled every third
-    of a cell, passes over passable cells only (:func:`_passable_once`: near the start, or with
-    ``squeeze``, free cells that are not walls will do). The grids as flat views, ``n`` their side."""
+    of a cell, passes over walkable cells only (near the start, or with ``squeeze``, free cells that
+    are not walls will do). The grids as flat views, ``n`` their side."""
     samples = int(3.0 * math.hypot(tx - gx, ty - gy)) + 1
     last_i, last_j, last_near = -1, -1, False
     for s in range(1, samples + 1):
@@ -418,7 +453,12 @@ def _line_clear(free, hits, n, gx, gy, tx, ty, squeeze, walk_cache, walk_id):  #
         i, j = int(x), int(y)
         if i == last_i and j == last_j and near == last_near:
             continue  # (the sample before was in this cell: it passed)
-        if not (0 <= i < n and 0 <= j < n and _passable_once(free, hits, i * n + j, n, near, walk_cache, walk_id)):
+        if not (0 <= i < n and 0 <= j < n):
+            return False
+        walkable = _walk_known(walk_cache, i * n + j, walk_id)
+        if walkable < 0:
+            walkable = _walk_learnt(free, hits, i * n + j, n, walk_cache, walk_id)
+        if walkable == 0 and not (near and _free_not_wall(free, hits, i * n + j, n)):
             return False
         last_i, last_j, last_near = i, j, near
     return True
