@@ -392,7 +392,9 @@ class ExplorationMap:
         )  # fmt: skip
         # the paths to every cell reached are those a search to that cell would find, unless the
         # robot stands by a wall (the searches to a cell let it leave by free cells): kept for _find
-        self._tree = (i, j, self.revision) if reached and start_free_is_walkable(self.free, self.hits, i, j, self._walk_cache, walk_id) else None
+        self._tree = (
+            (i, j, self.revision) if reached and start_free_is_walkable(self.free, self.hits, i, j, self._walk_cache, walk_id) else None
+        )
         return known_with_steps(self.visited, self._parent, self._queue, reached, self._depth, self.n)
 
     def path(
