@@ -163,11 +163,13 @@ def _free_not_wall(free, hits, k, n):  # pragma: no cover - compiled
 # Whether a cell is walkable is remembered in ``walk_cache`` as ``2 walk_id + walkable``: one id per
 # state of the grids, so that searches on unchanged grids reuse what earlier ones worked out (one
 # array for the id and the answer: a search reads one entry per cell, not two). A search asks in two
-# steps, :func:`_walk_known` and, for a cell not yet worked out, :func:`_walk_learnt`, written out
-# where it asks: a compiled helper that writes into an array costs reference counting at every call,
-# even where the write is skipped (measured: the breadth-first search of the open arena's map took
-# 112 us with the question in one such helper, 14 us so). A cell the search may pass is walkable, or
-# near its start (``near``) at least free and not a wall (:func:`_free_not_wall`).
+# steps: what is remembered (:func:`_walk_known`, :func:`_move_known`, which read the cache only)
+# and, where that does not decide, the answer worked out and remembered (:func:`_walk_learnt`,
+# :func:`_move_learnt`). A compiled helper that writes into an array it is passed costs reference
+# counting at every call, even where the write is skipped: the breadth-first search of the open
+# arena's map took 112 us with the question in one such helper, 29 us so (14 us with the question
+# written out in full at each use). A search may step onto a cell that is walkable or, near its
+# start (``near``), at least free and not a wall (:func:`_free_not_wall`).
 
 
 @njit(cache=True, inline="always")
@@ -198,10 +200,45 @@ def _step_to(cur, d, n):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _beside_diagonal(cur, d, n):  # pragma: no cover - compiled
-    """The two cells beside the diagonal step ``d`` from ``cur`` (the row's, then the column's):
-    both must be passable (no corner cutting)."""
+def _beside(cur, d, n):  # pragma: no cover - compiled
+    """The cells beside the step ``d`` from ``cur`` that must be passable too: for a diagonal step the
+    row's and the column's (no corner cutting); for a straight one the neighbour itself, twice."""
+    if d == 1 or d == 3 or d == 4 or d == 6:
+        nxt = _step_to(cur, d, n)
+        return nxt, nxt
     return cur - n if d < 3 else cur + n, cur - 1 if d == 0 or d == 5 else cur + 1
+
+
+@njit(cache=True, inline="always")
+def _move_known(cur, d, n, near, walk_cache, walk_id):  # pragma: no cover - compiled
+    """Whether a search may step from ``cur`` to its neighbour ``d``, as far as the cells' remembered
+    walkability decides it: 1 if the neighbour (and for a diagonal step both cells beside it) is
+    walkable, 0 if one is not and the search is not ``near`` its start; -1 otherwise
+    (:func:`_move_learnt` decides)."""
+    row, column = _beside(cur, d, n)
+    a = _walk_known(walk_cache, _step_to(cur, d, n), walk_id)
+    b = _walk_known(walk_cache, row, walk_id)
+    c = _walk_known(walk_cache, column, walk_id)
+    if a == 1 and b == 1 and c == 1:
+        return 1
+    if not near and (a == 0 or b == 0 or c == 0):
+        return 0
+    return -1
+
+
+@njit(cache=True)
+def _move_learnt(free, hits, cur, d, n, near, walk_cache, walk_id):  # pragma: no cover - compiled
+    """Whether a search may step from ``cur`` to its neighbour ``d``: the neighbour, and for a diagonal
+    step both cells beside it, are walkable or (``near``: within two steps of the search's start, or
+    ``squeeze``) at least free and not walls. The walkability it works out is remembered."""
+    row, column = _beside(cur, d, n)
+    for k in (_step_to(cur, d, n), row, column):
+        walkable = _walk_known(walk_cache, k, walk_id)
+        if walkable < 0:
+            walkable = _walk_learnt(free, hits, k, n, walk_cache, walk_id)
+        if walkable == 0 and not (near and _free_not_wall(free, hits, k, n)):
+            return False
+    return True
 
 
 @njit(cache=True)
@@ -244,23 +281,11 @@ def search(free, hits, known, i0, j0, target, stamp, parent, queue, search_id, s
             nxt = _step_to(cur, d, n)
             if stamp[nxt] == search_id:
                 continue
-            walkable = _walk_known(walk_cache, nxt, walk_id)
-            if walkable < 0:
-                walkable = _walk_learnt(free_, hits_, nxt, n, walk_cache, walk_id)
-            if walkable == 0 and not (near and _free_not_wall(free_, hits_, nxt, n)):
+            allowed = _move_known(cur, d, n, near, walk_cache, walk_id)
+            if allowed < 0:
+                allowed = _move_learnt(free_, hits_, cur, d, n, near, walk_cache, walk_id)
+            if not allowed:
                 continue
-            if not (d == 1 or d == 3 or d == 4 or d == 6):  # a diagonal step
-                row, column = _beside_diagonal(cur, d, n)
-                walkable = _walk_known(walk_cache, row, walk_id)
-                if walkable < 0:
-                    walkable = _walk_learnt(free_, hits_, row, n, walk_cache, walk_id)
-                if walkable == 0 and not (near and _free_not_wall(free_, hits_, row, n)):
-                    continue
-                walkable = _walk_known(walk_cache, column, walk_id)
-                if walkable < 0:
-                    walkable = _walk_learnt(free_, hits_, column, n, walk_cache, walk_id)
-                if walkable == 0 and not (near and _free_not_wall(free_, hits_, column, n)):
-                    continue
             stamp[nxt] = search_id
             parent[nxt] = cur
             queue[tail] = nxt
@@ -331,23 +356,11 @@ def search_disk(
             nxt = _step_to(cur, d, n)
             if closed[nxt] == search_id or (stamp[nxt] == search_id and steps[nxt] <= g):
                 continue
-            walkable = _walk_known(walk_cache, nxt, walk_id)
-            if walkable < 0:
-                walkable = _walk_learnt(free_, hits_, nxt, n, walk_cache, walk_id)
-            if walkable == 0 and not (near and _free_not_wall(free_, hits_, nxt, n)):
+            allowed = _move_known(cur, d, n, near, walk_cache, walk_id)
+            if allowed < 0:
+                allowed = _move_learnt(free_, hits_, cur, d, n, near, walk_cache, walk_id)
+            if not allowed:
                 continue
-            if not (d == 1 or d == 3 or d == 4 or d == 6):  # a diagonal step
-                row, column = _beside_diagonal(cur, d, n)
-                walkable = _walk_known(walk_cache, row, walk_id)
-                if walkable < 0:
-                    walkable = _walk_learnt(free_, hits_, row, n, walk_cache, walk_id)
-                if walkable == 0 and not (near and _free_not_wall(free_, hits_, row, n)):
-                    continue
-                walkable = _walk_known(walk_cache, column, walk_id)
-                if walkable < 0:
-                    walkable = _walk_learnt(free_, hits_, column, n, walk_cache, walk_id)
-                if walkable == 0 and not (near and _free_not_wall(free_, hits_, column, n)):
-                    continue
             stamp[nxt] = search_id
             parent[nxt] = cur
             steps[nxt] = g
