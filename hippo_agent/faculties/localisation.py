@@ -72,15 +72,16 @@ class LocalisationConfig(Section):
     ``path_integration.rule_out_radius`` away and apart, are followed beside the estimate (0: off)."""
     doubt_margin: float = param(0.1, ge=0)
     """A look-alike place whose running fit exceeds the estimate's by this takes the anchoring to be wrong."""
-    doubt_nearby: float | None = param(None, gt=0)
+    doubt_nearby: float | None = param(0.25, gt=0)
     """Before a look-alike place's better running fit takes the anchoring to be wrong, the scan is
     fitted also at the places this far (m) from the estimate along each axis and diagonal; if one
     of them fits it at least as well as the look-alike place does, the estimate stands (``None``:
     no such check). A look-alike place was picked, on a grid, as the best fit at the
     anchoring: in a maze of identical rooms it can fit its copy of the room better than an
     estimate a few decimetres off the truth fits the true one, and without this check, in 20 m
-    mazes of 3 x 3 rooms, such estimates were doubted and anchored afresh a room or two away. Not
-    the default: it also keeps some wrong anchorings longer (docs/parameters.md)."""
+    mazes of 3 x 3 rooms, such estimates were doubted and anchored afresh a room or two away. It
+    also keeps an anchoring in a wrong room that nearby places fit as well as the true one; the
+    bumps and the failed search round the goal end those (docs/parameters.md)."""
     lost_bump_rate: float | None = param(0.15, gt=0)
     """Anchored in a run, when the running rate of bumps where the map shows no wall exceeds
     this, the estimate is taken to be wrong (``None``: off). A well-placed robot bumps rarely; one
