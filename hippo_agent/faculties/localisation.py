@@ -80,8 +80,8 @@ class LocalisationConfig(Section):
     anchoring: in a maze of identical rooms it can fit its copy of the room better than an
     estimate a few decimetres off the truth fits the true one, and without this check, in 20 m
     mazes of 3 x 3 rooms, such estimates were doubted and anchored afresh a room or two away. It
-    also keeps an anchoring in a wrong room that nearby places fit as well as the true one; the
-    bumps and the failed search round the goal end those (docs/parameters.md)."""
+    also keeps an anchoring in a wrong room that nearby places fit as well as the true one, until
+    something else ends it, such as a failed search round the goal (docs/parameters.md)."""
     lost_bump_rate: float | None = param(0.15, gt=0)
     """Anchored in a run, when the running rate of bumps where the map shows no wall exceeds
     this, the estimate is taken to be wrong (``None``: off). A well-placed robot bumps rarely; one
