@@ -39,6 +39,7 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
         ("place", "step"),
         ("place", "step_sense"),
         ("place", "step_driven"),
+        ("place", "step_driven_by_centres"),
         ("place", "settle"),
         ("place", "settle_sense"),
         ("place", "reset_state"),
@@ -54,7 +55,7 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
     ),
     "localisation": (("localisation", "check"), ("localisation", "count_bump")),
     "map_and_plans": (("map", "observe"), ("map", "wall_near"), ("homing", "plan"), ("exploration", "plan")),
-    "learning": (("place", "learn_pb"), ("place", "learn_pp"), ("place", "update_trace"), ("place", "update_hd_trace")),
+    "learning": (("place", "learn"), ("place", "learn_pb"), ("place", "learn_pp"), ("place", "update_trace"), ("place", "update_hd_trace")),
     "preplay": (("place", "imagined_values"), ("reward", "value"), ("reward", "depress")),
 }
 # The parts of one replay (``HippocampalAgent.learn_reward``); the rest is "other".

@@ -330,7 +330,10 @@ class HippocampalAgent:
         self.pi.correct(*self.pi.vote(place), *self._evidence(s))
         if self.localisation is not None:
             self.localisation.check(s.ranges, s.heading, self.total_steps, self.phase == "dry", self.pi.anchored and not was_anchored)
-        place.step_driven(self.pi.drive() if self.pi.anchored else None)
+        if self.pi.anchored:
+            self.pi.drive_place(place)  # (the drive of :meth:`PathIntegrator.drive`, and the update)
+        else:
+            place.step_driven(None)
         return self.localisation.trusted if self.localisation is not None else self.pi.anchored
 
     def _evidence(self, s: Senses) -> tuple[Any, Any]:

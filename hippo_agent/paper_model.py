@@ -274,15 +274,8 @@ class PaperModel:
         that doubts where the robot is); an untrusted code is not traced, so eq. 7 does not link it
         to the next trusted one. No eq.-7 learning against a wall (``bumped``), nor in the dry run
         unless ``learn_pp_in_dry_run``."""
-        if trusted:
-            self.place.learn_pb(b)  # eq. 5
-        self.place.update_hd_trace(h)  # eq. 6
-        if trusted and not bumped and (not dry or self.config.learn_pp_in_dry_run):
-            self.place.learn_pp()  # eq. 7
-        if trusted:
-            self.place.update_trace()  # eq. 6
-        else:
-            self.place.trace[:] = 0.0
+        # eq. 5 if trusted; eq. 6's head-direction trace; eq. 7; eq. 6's place-cell trace (zeroed if untrusted)
+        self.place.learn(b, h, trusted, trusted and not bumped and (not dry or self.config.learn_pp_in_dry_run))
 
     def replay(self) -> bool:
         """Backward replay (Algorithm 1) from the current place rates into the current goal's

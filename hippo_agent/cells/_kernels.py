@@ -209,6 +209,29 @@ def sense_step(W_bp, b, Gamma_pb, Gamma_pp, k, psi, s, v, Wb, s_out, v_out):  # 
 
 
 @njit(cache=True, error_model="numpy")
+def learn_step(
+    W_bp, v, b, eta_pb, alpha_pb, hd_trace, h, hd_trace_rate, W_slots, slot, trace, eta_pp, trace_rate, trace_floor, trusted, pp
+):  # pragma: no cover - compiled
+    """A step's learning, in this order: eq. 5 (:func:`oja_active_rows`) if ``trusted``; the
+    head-direction trace toward ``h`` (eq. 6, no floor); eq. 7 (:func:`pp_update`) if ``pp``; the
+    place-cell trace toward ``v`` (eq. 6) if ``trusted``, else the trace set to 0. Returns what
+    :func:`pp_update` returns: if it is not 0 (cells without a slot), eq. 7 and the place-cell
+    trace are left to the caller."""
+    if trusted:
+        oja_active_rows(W_bp, v, b, eta_pb, alpha_pb)
+    update_trace(hd_trace, h, hd_trace_rate, -np.inf)
+    if pp:
+        unslotted = pp_update(W_slots, slot, v, trace, eta_pp, hd_trace)
+        if unslotted:
+            return unslotted
+    if trusted:
+        update_trace(trace, v, trace_rate, trace_floor)
+    else:
+        trace[:] = 0.0
+    return 0
+
+
+@njit(cache=True, error_model="numpy")
 def centre_drive(
     centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, out
 ):  # pragma: no cover - compiled
@@ -226,6 +249,17 @@ def centre_drive(
                 out[i] -= far_inhibition
         else:
             out[i] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def centre_driven_advance(
+    s, v, Wb, b_inhibition, Gamma_pp, k, psi, centres, centre_mass, position, constants, extra, s_out, v_out
+):  # pragma: no cover - compiled
+    """:func:`centre_drive` into ``extra`` (``constants``: its arguments after the position), then
+    :func:`advance` with that extra input: one call for the update of a step driven by path integration."""
+    two_var, gain, threshold, far_sq, far_inhibition, negligible_sq = constants
+    centre_drive(centres, centre_mass, position, two_var, gain, threshold, far_sq, far_inhibition, negligible_sq, extra)
+    advance(s, v, Wb, b_inhibition, Gamma_pp, extra, True, k, psi, s_out, v_out)
 
 
 @njit(cache=True, error_model="numpy")

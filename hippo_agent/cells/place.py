@@ -174,6 +174,26 @@ class PlaceCells:
             assert self._drive is not None, "step_sense comes first"
             self.s, self.v = self._advance(self.s, self.v, *self._drive, extra)
 
+    def step_driven_by_centres(
+        self,
+        centres: np.ndarray,
+        centre_mass: np.ndarray,
+        position: np.ndarray,
+        constants: tuple[float, float, float, float, float, float],
+    ) -> None:
+        """:meth:`step_driven` with the extra drive of cells with centres round ``position``, as
+        :meth:`PathIntegrator.drive <hippo_agent.faculties.path_integration.PathIntegrator.drive>`
+        gives it (``constants`` are :func:`_kernels.centre_drive`'s after the position): the drive
+        and the update in one compiled call."""
+        assert self._drive is not None, "step_sense comes first"
+        Wb, b_sum = self._drive
+        s, v, extra = np.empty(self.n), np.empty(self.n), np.empty(self.n)
+        _kernels.centre_driven_advance(
+            self.s, self.v, Wb, self.Gamma_pb * b_sum, self.Gamma_pp, self.k, self.psi, centres, centre_mass, position, constants,
+            extra, s, v,
+        )  # fmt: skip
+        self.s, self.v = s, v
+
     def settle_sense(self, b: np.ndarray, n_steps: int) -> None:
         """``n_steps`` updates of the BVC-only response with ``b``; the rates then equal it."""
         Wb, b_sum = self._bvc_drive(b)
@@ -204,6 +224,19 @@ class PlaceCells:
         # eq. 5: W_i += eta_pb v_i (b - v_i W_i / alpha_pb), in float64 per active row i; weights decayed
         # below 1e-12 are flushed to 0 before they become slow denormal float32s
         _kernels.oja_active_rows(self.W_bp, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb)
+
+    def learn(self, b: np.ndarray, h: np.ndarray, trusted: bool, pp: bool) -> None:
+        """A step's learning in one compiled call: Oja's rule (eq. 5, :meth:`learn_pb`) if
+        ``trusted``; the head-direction trace (:meth:`update_hd_trace`); eq. 7 (:meth:`learn_pp`)
+        if ``pp``; the place-cell trace (:meth:`update_trace`) if ``trusted``, else the trace set
+        to 0 (an untrusted code is not traced)."""
+        if _kernels.learn_step(
+            self.W_bp, self.v, np.asarray(b, dtype=np.float64), self.eta_pb, self.alpha_pb, self.hd_trace, h, self.hd_trace_rate,
+            self.W_slots, self.slot, self.trace, self.eta_pp, self.trace_rate, self.trace_floor, trusted, pp,
+        ):  # fmt: skip
+            # eq. 7 reached cells holding no slot yet (nothing of it done): give them slots, then eq. 7 and the trace
+            self.learn_pp()
+            self.update_trace()
 
     def update_hd_trace(self, h: np.ndarray) -> None:
         """Move the head-direction trace Upsilon^h toward ``h`` (eq. 6c)."""

@@ -195,6 +195,11 @@ class PathIntegrator:
         _kernels.centre_drive(self.centres, self.centre_mass, where, *self._drive_constants, out)
         return out
 
+    def drive_place(self, place: PlaceCells) -> None:
+        """The place cells' update of this step (after :meth:`PlaceCells.step_sense`) with the
+        drive at the estimate (:meth:`drive`): :meth:`PlaceCells.step_driven_by_centres`."""
+        place.step_driven_by_centres(self.centres, self.centre_mass, self.estimate, self._drive_constants)
+
     def learn_centres(self, place: PlaceCells) -> None:
         """Each active cell's centre moves toward where the estimate was when the rates formed
         (:meth:`lagged_estimate`) by its rate over its accumulated rate (a running mean, capped at
