@@ -46,6 +46,7 @@ AGENT_TERMS: dict[str, tuple[tuple[str, str], ...]] = {
     ),
     "path_integration": (
         ("pi", "move"),
+        ("pi", "move_by_odometry"),
         ("pi", "correct"),
         ("pi", "start_run"),
         ("pi", "lagged_estimate"),

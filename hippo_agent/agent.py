@@ -324,17 +324,21 @@ class HippocampalAgent:
             return True
         if s.odometry is None:
             raise ValueError("observation must hold 'odometry' (forward, left) in metres: path integration needs it")
-        self.pi.move_by_odometry(s.odometry, s.heading_vec)
+        pi, localisation = self.pi, self.localisation
+        pi.move_by_odometry(s.odometry, s.heading_vec)
         place.step_sense(s.b)  # what the boundary code alone says
-        was_anchored = self.pi.anchored
-        self.pi.correct(*self.pi.vote(place), *self._evidence(s))
-        if self.localisation is not None:
-            self.localisation.check(s.ranges, s.heading, self.total_steps, self.phase == "dry", self.pi.anchored and not was_anchored)
-        if self.pi.anchored:
-            self.pi.drive_place(place)  # (the drive of :meth:`PathIntegrator.drive`, and the update)
+        was_anchored = pi.anchored
+        if was_anchored:  # (no evidence from the map: :meth:`_evidence`)
+            pi.correct(*pi.vote(place))
+        else:
+            pi.correct(*pi.vote(place), *self._evidence(s))
+        if localisation is not None:
+            localisation.check(s.ranges, s.heading, self.total_steps, self.phase == "dry", pi.anchored and not was_anchored)
+        if pi.anchored:
+            pi.drive_place(place)  # (the drive of :meth:`PathIntegrator.drive`, and the update)
         else:
             place.step_driven(None)
-        return self.localisation.trusted if self.localisation is not None else self.pi.anchored
+        return localisation.trusted if localisation is not None else pi.anchored
 
     def _evidence(self, s: Senses) -> tuple[Any, Any]:
         """The map's evidence for the belief's correction, if localisation is on (else none);

@@ -263,42 +263,44 @@ def centre_driven_advance(
 
 
 @njit(cache=True, error_model="numpy")
-def learn_centres(v, centres, centre_mass, position, max_mass, with_spread, v_sense, spread, spread_mass):  # pragma: no cover - compiled
-    """Each active cell's centre moves toward ``position`` by ``v_i / mass_i`` (mass capped at
-    ``max_mass``); then, ``with_spread``, :func:`learn_spread` at ``position``."""
+def learn_centres(v, centres, centre_mass, x, y, max_mass, with_spread, v_sense, spread, spread_mass):  # pragma: no cover - compiled
+    """Each active cell's centre moves toward the position ``(x, y)`` by ``v_i / mass_i`` (mass capped at
+    ``max_mass``); then, ``with_spread``, :func:`learn_spread` there."""
     for i in range(v.size):
         if v[i] > 0.0:
             mass = centre_mass[i] + v[i]
             mass = min(mass, max_mass)
             rate = v[i] / mass
-            centres[i, 0] += rate * (position[0] - centres[i, 0])
-            centres[i, 1] += rate * (position[1] - centres[i, 1])
+            centres[i, 0] += rate * (x - centres[i, 0])
+            centres[i, 1] += rate * (y - centres[i, 1])
             centre_mass[i] = mass
     if with_spread:
-        learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, max_mass)
+        learn_spread(v_sense, centres, centre_mass, spread, spread_mass, x, y, max_mass)
 
 
 @njit(cache=True, error_model="numpy")
-def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, position, max_mass):  # pragma: no cover - compiled
-    """Running mean, weighted by the BVC-only rate, of each centred cell's squared distance to ``position``."""
+def learn_spread(v_sense, centres, centre_mass, spread, spread_mass, x, y, max_mass):  # pragma: no cover - compiled
+    """Running mean, weighted by the BVC-only rate, of each centred cell's squared distance to ``(x, y)``."""
     for i in range(v_sense.size):
         if v_sense[i] > 0.0 and centre_mass[i] > 0.0:
             mass = spread_mass[i] + v_sense[i]
             mass = min(mass, max_mass)
-            dx = centres[i, 0] - position[0]
-            dy = centres[i, 1] - position[1]
+            dx = centres[i, 0] - x
+            dy = centres[i, 1] - y
             spread[i] += v_sense[i] / mass * ((dx * dx + dy * dy) - spread[i])
             spread_mass[i] = mass
 
 
 @njit(cache=True, error_model="numpy")
-def shift(particles, step, spread, noise):  # pragma: no cover - compiled
-    """Move every sample by ``step`` plus ``spread`` times its standard normal ``noise`` (none if ``spread`` is 0)."""
+def shift(particles, x, y, spread, noise):  # pragma: no cover - compiled
+    """Move every sample by the step ``(x, y)`` plus ``spread`` times its standard normal ``noise`` (none if ``spread`` is 0)."""
     for p in range(particles.shape[0]):
-        for d in range(2):
-            particles[p, d] += step[d]
-            if spread > 0.0:
-                particles[p, d] += spread * noise[p, d]
+        particles[p, 0] += x
+        if spread > 0.0:
+            particles[p, 0] += spread * noise[p, 0]
+        particles[p, 1] += y
+        if spread > 0.0:
+            particles[p, 1] += spread * noise[p, 1]
 
 
 @njit(cache=True, error_model="numpy")

@@ -127,6 +127,13 @@ def mark_disk(grid, x, y, radius, extent, cell):  # pragma: no cover - compiled
     return newly
 
 
+@njit(cache=True)
+def mark_disks(visited, searched, x, y, visit_radius, search_radius, extent, cell):  # pragma: no cover - compiled
+    """:func:`mark_disk` into ``visited`` with ``visit_radius`` and into ``searched`` with
+    ``search_radius``; returns how many cells of either were not set before."""
+    return mark_disk(visited, x, y, visit_radius, extent, cell) + mark_disk(searched, x, y, search_radius, extent, cell)
+
+
 # The searches address cells by flat index k = i n + j (one index, no division per cell step):
 # the helpers below take the grids as flat views (``free.reshape(n * n)``) and a cell on the grid.
 # (The forms of their expressions are the measured fast ones: numba compiles an ``or`` of calls

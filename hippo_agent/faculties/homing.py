@@ -203,29 +203,32 @@ class Homing:
         a look-alike place (and :attr:`heading` is ``None``)."""
         c = self.config
         self.heading = None
-        target = self.remembered()
+        count = self.found_count[-1].item() if self.found_count.size else 0.0
         trusted = self.localisation.trusted if self.localisation is not None else self.pi.anchored
-        if target is None or not trusted:
+        if count == 0 or not trusted:
             self.closest, self.stalled = math.inf, 0  # (a new anchoring may put the place farther)
             return False
         here = self.pi.estimate
-        (tx, ty), (x, y) = target.tolist(), here.tolist()  # (as floats: faster than on NumPy scalars)
+        # (as floats: faster than on NumPy scalars; the same quotients as remembered()'s)
+        (sx, sy), (x, y) = self.found_sum[-1].tolist(), here.tolist()
+        tx, ty = sx / count, sy / count
+        target = (tx, ty)
         distance = _distance(tx, ty, x, y)
         if distance > c.radius:
             return False
         if distance < c.arrived and not self.searching:
             self._start_search()
         if self.searching:
-            heading = self.map.heading_to_unsearched_near(here, target, c.search_radius)
+            heading = self.map.heading_to_unsearched_near(here, np.array(target), c.search_radius)
             if heading is None:  # searched all round the place without finding the reward
                 self._failed()
                 return True
-        elif distance <= c.approach_radius or self.map.in_sight(here, _toward(here, target, distance - c.approach_radius)):
+        elif distance <= c.approach_radius or self.map.in_sight(here, _toward(x, y, tx, ty, distance - c.approach_radius)):
             heading = math.atan2(ty - y, tx - x)  # straight at it (a bump this near ends homing)
         else:
             # the place itself may be by a wall, off the walkable map: path to walkable ground
             # within approach_radius of it, the ground from which the robot goes straight on
-            heading = self.map.heading_to_near(here, target, c.approach_radius)
+            heading = self.map.heading_to_near(here, np.array(target), c.approach_radius)
         if heading is not None and not self.searching and c.stall_steps is not None:
             if distance < self.closest - c.stall_progress:
                 self.closest, self.stalled = distance, 0
@@ -291,9 +294,8 @@ def _distance(tx: float, ty: float, x: float, y: float) -> float:
     return float(np.hypot(tx - x, ty - y))
 
 
-def _toward(start: np.ndarray, end: np.ndarray, length: float) -> tuple[float, float]:
-    """The point ``length`` metres from ``start`` toward ``end``."""
-    x, y = float(start[0]), float(start[1])
-    dx, dy = float(end[0]) - x, float(end[1]) - y
+def _toward(x: float, y: float, tx: float, ty: float, length: float) -> tuple[float, float]:
+    """The point ``length`` metres from ``(x, y)`` toward ``(tx, ty)``."""
+    dx, dy = tx - x, ty - y
     f = length / math.hypot(dx, dy)
     return x + f * dx, y + f * dy

@@ -45,6 +45,7 @@ from hippo_agent.faculties._map_kernels import (
     known_with_steps,
     lines_clear,
     mark_disk,
+    mark_disks,
     path_to,
     search,
     search_disk,
@@ -209,9 +210,7 @@ class ExplorationMap:
         """Mark the ground round ``position`` visited, and searched within ``search_radius`` (by default the map's)."""
         x, y = float(position[0]), float(position[1])
         radius = self.search_radius if search_radius is None else float(search_radius)
-        visited = mark_disk(self.visited, x, y, self.visit_radius, self.extent, self.cell)
-        searched = mark_disk(self.searched, x, y, radius, self.extent, self.cell)
-        if visited or searched:
+        if mark_disks(self.visited, self.searched, x, y, self.visit_radius, radius, self.extent, self.cell):
             self._marks += 1
 
     def revise(

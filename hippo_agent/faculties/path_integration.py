@@ -113,6 +113,11 @@ class PathIntegrationConfig(Section):
 
 def odometry_step(odometry: Any, heading_vec: np.ndarray) -> np.ndarray:
     """The encoders' (forward, left) displacement rotated by the compass: the step in the frame."""
+    return np.array(_odometry_xy(odometry, heading_vec))
+
+
+def _odometry_xy(odometry: Any, heading_vec: np.ndarray) -> tuple[float, float]:
+    """:func:`odometry_step` as two floats."""
     try:
         forward, left = np.asarray(odometry, dtype=np.float64).tolist()  # (floats: faster arithmetic)
     except (TypeError, ValueError) as exc:
@@ -120,7 +125,7 @@ def odometry_step(odometry: Any, heading_vec: np.ndarray) -> np.ndarray:
     hx, hy = heading_vec.tolist()
     norm = math.hypot(hx, hy) or 1.0
     c, s = hx / norm, hy / norm
-    return np.array([c * forward - s * left, s * forward + c * left])
+    return c * forward - s * left, s * forward + c * left
 
 
 RULED_OUT_WEIGHT = 1e-3
@@ -206,8 +211,9 @@ class PathIntegrator:
         ``centre_max_mass``); each centred cell the boundary code alone fires here learns how far
         from its centre that happens (its spread: wide for a cell that also fires at a distant
         look-alike place)."""
+        (x, y), (dx, dy) = self.estimate.tolist(), self.last_step.tolist()  # (lagged_estimate's arithmetic)
         _kernels.learn_centres(
-            place.v, self.centres, self.centre_mass, self.lagged_estimate(), self.config.centre_max_mass,
+            place.v, self.centres, self.centre_mass, x - self.lag * dx, y - self.lag * dy, self.config.centre_max_mass,
             True, place.v_sense, self.spread, self.spread_mass,
         )  # fmt: skip
 
@@ -224,7 +230,7 @@ class PathIntegrator:
 
     def move_by_odometry(self, odometry: Any, heading_vec: np.ndarray) -> None:
         """Path integration: the encoders' (forward, left) displacement rotated by the compass."""
-        self.move(odometry_step(odometry, heading_vec))
+        self._move(*_odometry_xy(odometry, heading_vec))
 
     # ------------------------------------------------------------------ the belief
     def start_run(self) -> None:
@@ -246,13 +252,18 @@ class PathIntegrator:
 
     def move(self, step: np.ndarray) -> None:
         """Path integration: shift every sample by the allocentric ``step`` (m), plus noise."""
-        self.last_step = np.asarray(step, dtype=np.float64)
+        x, y = np.asarray(step, dtype=np.float64).tolist()
+        self._move(x, y)
+
+    def _move(self, x: float, y: float) -> None:
+        """:meth:`move` by the step ``(x, y)``."""
+        self.last_step = np.array((x, y))
         spread = self.min_motion_noise
         if self.motion_noise:  # (0 * length adds nothing)
-            spread += self.motion_noise * math.hypot(*self.last_step.tolist())
+            spread += self.motion_noise * math.hypot(x, y)
         if spread > 0:
             self.rng.standard_normal(out=self._noise)
-        _kernels.shift(self.particles, self.last_step, spread, self._noise)
+        _kernels.shift(self.particles, x, y, spread, self._noise)
         if self.ruled_out.size:
             self.ruled_out += self.last_step
 
