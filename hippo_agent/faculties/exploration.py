@@ -118,7 +118,7 @@ class Exploration:
         """Dry run: the place code seen in the map cell where the rates formed (rest replays it)."""
         place = self.model.place
         active = np.flatnonzero(place.v > 0.0)
-        self.codes[self.map.flat_index(*self.pi.lagged_estimate())] = (active, place.v[active])
+        self.codes[self.map.flat_index(*self.pi.lagged_xy())] = (active, place.v[active])
 
     # ------------------------------------------------------------------ where to go
     def plan(self, dry: bool) -> float | None:

@@ -211,9 +211,9 @@ class PathIntegrator:
         ``centre_max_mass``); each centred cell the boundary code alone fires here learns how far
         from its centre that happens (its spread: wide for a cell that also fires at a distant
         look-alike place)."""
-        (x, y), (dx, dy) = self.estimate.tolist(), self.last_step.tolist()  # (lagged_estimate's arithmetic)
+        x, y = self.lagged_xy()
         _kernels.learn_centres(
-            place.v, self.centres, self.centre_mass, x - self.lag * dx, y - self.lag * dy, self.config.centre_max_mass,
+            place.v, self.centres, self.centre_mass, x, y, self.config.centre_max_mass,
             True, place.v_sense, self.spread, self.spread_mass,
         )  # fmt: skip
 
@@ -338,8 +338,12 @@ class PathIntegrator:
 
     def lagged_estimate(self) -> np.ndarray:
         """Where the estimate was ``lag`` steps ago: what the place rates reflect now."""
+        return np.array(self.lagged_xy())
+
+    def lagged_xy(self) -> tuple[float, float]:
+        """:meth:`lagged_estimate` as two floats."""
         (x, y), (dx, dy) = self.estimate.tolist(), self.last_step.tolist()  # (as floats: faster than on two-element arrays)
-        return np.array((x - self.lag * dx, y - self.lag * dy))
+        return x - self.lag * dx, y - self.lag * dy
 
     def _redraw(self, rates: np.ndarray, centres: np.ndarray, n: int, proposed: np.ndarray | None = None) -> None:
         """Replace the ``n`` lightest samples by draws around the voted centres and, with
