@@ -57,22 +57,25 @@ def revise_scan(
     here = _grid_index(x + extent, cell, inv_cell) * n + _grid_index(y + extent, cell, inv_cell)
     n_rays = ranges.size
     step = cell * 0.5
+    m = (n_rays + stride - 1) // stride
+    cos_, sin_ = np.empty(m), np.empty(m)  # each ray's direction, worked out once for both passes
+    for q in range(m):
+        angle = heading + 2.0 * math.pi * (q * stride) / n_rays
+        cos_[q], sin_[q] = math.cos(angle), math.sin(angle)
     for r in range(0, n_rays, stride):  # where this scan's rays end
         d = float(ranges[r])
         if d < hit_range and d < max_range * 0.999:
-            angle = heading + 2.0 * math.pi * r / n_rays
-            i = _grid_index(x + d * math.cos(angle) + extent, cell, inv_cell)
-            j = _grid_index(y + d * math.sin(angle) + extent, cell, inv_cell)
+            q = r // stride
+            i = _grid_index(x + d * cos_[q] + extent, cell, inv_cell)
+            j = _grid_index(y + d * sin_[q] + extent, cell, inv_cell)
             if 0 <= i < n and 0 <= j < n:
                 hit_stamp[i, j] = scan_id
-    m = (n_rays + stride - 1) // stride
     crossed = np.full(m if paired else 0, -2, dtype=np.int64)  # each ray's first crossing, worked out when asked (-2)
     for r in range(0, n_rays, stride):
-        angle = heading + 2.0 * math.pi * r / n_rays
-        c, s = math.cos(angle), math.sin(angle)
+        q = r // stride
+        c, s = cos_[q], sin_[q]
         d = float(ranges[r])
         reach = min(d - step, max(free_range, gone_range))
-        q = r // stride
         t = 0.0
         i, j, inside = -1, -1, 0
         while t < reach:
