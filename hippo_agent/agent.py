@@ -328,10 +328,7 @@ class HippocampalAgent:
         pi.move_by_odometry(s.odometry, s.heading_vec)
         place.step_sense(s.b)  # what the boundary code alone says
         was_anchored = pi.anchored
-        if was_anchored:  # (no evidence from the map: :meth:`_evidence`)
-            pi.correct(*pi.vote(place))
-        else:
-            pi.correct(*pi.vote(place), *self._evidence(s))
+        pi.correct(*pi.vote(place), *self._evidence(s))
         if localisation is not None:
             localisation.check(s.ranges, s.heading, self.total_steps, self.phase == "dry", pi.anchored and not was_anchored)
         if pi.anchored:
