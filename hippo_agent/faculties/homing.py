@@ -171,9 +171,16 @@ class Homing:
 
     def remembered(self) -> np.ndarray | None:
         """Where the current goal's reward was found, on average; ``None`` before it was found."""
-        if self.found_count.size == 0 or self.found_count[-1] == 0:
+        place = self._remembered_xy()
+        return None if place is None else np.array(place)
+
+    def _remembered_xy(self) -> tuple[float, float] | None:
+        """:meth:`remembered` as two floats (faster arithmetic than on NumPy scalars)."""
+        count = self.found_count[-1].item() if self.found_count.size else 0
+        if count == 0:
             return None
-        return self.found_sum[-1] / self.found_count[-1]
+        sx, sy = self.found_sum[-1].tolist()
+        return sx / count, sy / count
 
     @property
     def gave_up(self) -> bool:
@@ -203,16 +210,13 @@ class Homing:
         a look-alike place (and :attr:`heading` is ``None``)."""
         c = self.config
         self.heading = None
-        count = self.found_count[-1].item() if self.found_count.size else 0.0
+        target = self._remembered_xy()
         trusted = self.localisation.trusted if self.localisation is not None else self.pi.anchored
-        if count == 0 or not trusted:
+        if target is None or not trusted:
             self.closest, self.stalled = math.inf, 0  # (a new anchoring may put the place farther)
             return False
         here = self.pi.estimate
-        # (as floats: faster than on NumPy scalars; the same quotients as remembered()'s)
-        (sx, sy), (x, y) = self.found_sum[-1].tolist(), here.tolist()
-        tx, ty = sx / count, sy / count
-        target = (tx, ty)
+        (tx, ty), (x, y) = target, here.tolist()
         distance = _distance(tx, ty, x, y)
         if distance > c.radius:
             return False
