@@ -14,6 +14,7 @@ beside it). Writes ``benchmarks/results/door_probe[_clear].json``.
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 from typing import Any
 
@@ -38,6 +39,8 @@ class DoorArgs:
     """runner seed (the changes are drawn from it)"""
     clear: bool = False
     """PRIVILEGED: clear the door's cells in the agent's map when the door's layout begins"""
+    config: str = ""
+    """the hippo agent's overrides as JSON (as ``benchmarks.changing_world --config``)"""
     out: str = ""
     """output JSON ('' = benchmarks/results/door_probe[_clear].json)"""
 
@@ -62,7 +65,7 @@ def probe(args: DoorArgs) -> dict[str, Any]:
     door_phase = names.index("door")
     first_door_run = sum(p.get("runs", 4) for p in schedule["phases"][:door_phase])
     before = maze_spec(args.maze)
-    factory = agent_factory("hippo")
+    factory = agent_factory("hippo", **(json.loads(args.config) if args.config else {}))
     cells: dict[str, Any] = {}
     at_start: list[dict[str, Any]] = []
 
@@ -104,6 +107,7 @@ def probe(args: DoorArgs) -> dict[str, Any]:
         "maze": args.maze,
         "seed": args.seed,
         "cleared": args.clear,
+        "config": json.loads(args.config) if args.config else {},
         "door_cells": len(cells.get("flat", [])),
         "runs": rows,
     }
