@@ -120,31 +120,6 @@ def test_homing_that_comes_no_nearer_for_stall_steps_fails_as_a_search_does():
     assert not homing.plan() and homing.stalled == 0
 
 
-def test_homing_goes_through_an_opened_gap_until_it_bumps_on_that_way():
-    """A wall across the map with a gap two cells wide that a run cleared (a door cut in it,
-    ``ExplorationMap.opened``) and the walkable way round the wall's end: homing heads for the gap;
-    after a bump on that way, for the walkable way until the next run."""
-    homing = bare_homing(HomingConfig(gap_share=0.7))
-    m = homing.map
-    m.free[:] = 1  # (the whole map: room for the way round)
-    row = m.index(0.0, 0.0)[0]
-    m.hits[row, m.index(0.0, -5.0)[1] : m.index(0.0, 4.0)[1]] = 5  # from the map's edge to 1 m short of the other
-    gap = slice(m.index(0.0, -0.25)[1], m.index(0.0, 0.0)[1] + 1)
-    m.hits[row, gap] = 0
-    m.opened[row, gap] = True
-    m.grids_replaced()
-    homing.remember(np.array([1.5, 0.0]))
-    homing.pi.estimate = np.array([-1.5, 0.0])
-    assert not homing.plan() and math.cos(homing.heading) > 0.9 and m.through_gap  # through the gap
-    assert not homing.bumped(surprising=False)
-    assert not homing.plan() and math.sin(homing.heading) > 0.5 and not m.through_gap  # round the wall's end
-    fresh = bare_homing(HomingConfig(gap_share=0.7))
-    fresh.load_state(*homing.state())
-    assert fresh.gap_closed  # (saved with the rest of homing's state)
-    homing.reset()
-    assert not homing.plan() and math.cos(homing.heading) > 0.9  # a new run tries the gap again
-
-
 # ------------------------------------------------------------------ in the environment
 @pytest.mark.parametrize("radius", [None, 1.5])
 def test_near_where_the_goal_was_found_the_agent_homes_there(small_maze, radius):

@@ -179,32 +179,6 @@ def test_homing_reuses_its_search_only_from_the_same_cell_on_the_same_grids():
     assert m.revision == revision + 1  # (a scan of ground the map knows changes nothing)
 
 
-def test_homing_takes_a_gap_narrower_than_walkable_ground_by_opened_walls_when_it_is_much_shorter():
-    """A wall across the map with a gap two cells wide (walkable ground needs three: a door whose
-    cells by the jambs the map still holds as walls) and the walkable way round its far end: with
-    ``gap_share`` the path through the gap is taken when the map cleared the gap's cells in a run
-    (``opened``) and the path is at most that share of the walkable path's steps; with ``None``,
-    when it saves too little, or through a gap in walls that stand, the walkable way."""
-    m = ExplorationMap(MapConfig(extent=5.0))
-    m.free[:] = 1
-    row = m.index(0.0, 0.0)[0]
-    low, high = m.index(0.0, -5.0)[1], m.index(0.0, 4.0)[1]  # the wall from the maze's edge to 1 m short of the other
-    m.hits[row, low:high] = 5
-    gap = m.index(0.0, -0.25)[1], m.index(0.0, 0.0)[1]  # cells at y in [-0.25, 0.25)
-    m.hits[row, gap[0] : gap[1] + 1] = 0
-    m.grids_replaced()
-    start, place = np.array([-1.5, 0.0]), np.array([1.5, 0.0])
-    around = m.heading_to_near(start, place, 0.3)
-    assert m.heading_to_near(start, place, 0.3, gap_share=0.7) == around  # a gap in walls that stand: not taken
-    m.opened[row, gap[0] : gap[1] + 1] = True  # as a run's scans clear a wall they see through
-    m.grids_replaced()
-    through = m.heading_to_near(start, place, 0.3, gap_share=0.7)
-    assert through is not None and math.cos(through) > 0.9, math.degrees(through)  # straight at the gap
-    assert around is not None and math.sin(around) > 0.5, math.degrees(around)  # toward the wall's open end, at +y
-    assert m.through_gap
-    assert m.heading_to_near(start, place, 0.3, gap_share=0.05) == around and not m.through_gap  # saves too little
-
-
 def test_a_line_is_in_sight_over_walkable_ground_only_and_the_walkability_follows_the_grids():
     """``in_sight``: the straight line homing takes when it can. Across open ground it is in sight;
     with a wall across it, written by hand and announced, it is not, though the open ground was
@@ -461,9 +435,9 @@ def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_
     farther = _ring(5.0)  # the wall gone: every ray goes on to 5 m
     for k in range(14):
         m.revise(_pacing(k), 0.0, farther, max_range=10.0)
-    assert _wall(m, east) and not m.opened.any()  # 14 scans: still held
+    assert _wall(m, east)  # 14 scans: still held
     m.revise(_pacing(14), 0.0, farther, max_range=10.0)
-    assert m.hits[east] == 0 and m.known_free[east] and m.opened[east]  # a wall of the dry run's world gone: a way opened
+    assert m.hits[east] == 0 and m.known_free[east]
     held = ExplorationMap(config)  # rays that end by the wall (it is there, only grazed) keep it
     held.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
     grazed = _ring(3.0)
@@ -471,18 +445,6 @@ def test_a_wall_the_rays_cross_is_cleared_after_gone_wall_evidence_scans_unless_
     for k in range(30):
         held.revise(_pacing(k), 0.0, grazed, max_range=10.0)
     assert _wall(held, east)
-
-
-def test_a_wall_a_run_wrote_and_cleared_is_no_opened_way():
-    """A wall a run wrote (a bump) that scans later see through is cleared, and is not marked
-    ``opened``: a block that came and went, not a way through a wall of the world the map learnt."""
-    m = ExplorationMap(MapConfig(extent=6.0))
-    m.observe(np.zeros(2), 0.0, _ring(3.0), max_range=10.0)
-    m.mark_bump(np.array([1.0, 0.0]), 0.0, 0.3, new=True)
-    bumped = np.unravel_index(np.flatnonzero(m.new_walls)[0], m.new_walls.shape)
-    for k in range(30):
-        m.revise(_pacing(k), 0.0, _ring(3.0), max_range=10.0)
-    assert not _wall(m, bumped) and not m.opened.any()
 
 
 def test_with_gone_paired_a_wall_is_cleared_only_where_rays_beside_each_other_see_through_it():

@@ -17,7 +17,6 @@ def revise_scan(
     free,
     hits,
     new_walls,
-    opened,
     change,
     vantage,
     stamp,
@@ -48,11 +47,11 @@ def revise_scan(
     cell's ``change`` count, at most once per scan (``stamp``) and once per cell the robot stands
     in (``vantage``, the flat index of the robot's cell at the last count: a robot standing still
     sees the same crossing again, which is no new evidence); at ``gone_evidence`` the wall is
-    cleared and marked in ``opened`` (at ``new_evidence`` a wall written in a run, ``new_walls``,
-    not marked), at ``new_evidence`` the boundary is made a wall, marked in ``new_walls`` (0 or
-    not ``write_new``: never). A reading that agrees with a cell resets its count. Rays enter
-    cells up to ``free_range`` and cross walls up to ``gone_range``. With ``paired``, a crossing
-    counts only if a ray beside it crossed a wall near it too (:func:`_seen_through`). Returns how many cells changed."""
+    cleared (at ``new_evidence`` a wall written in a run, ``new_walls``), at ``new_evidence`` the
+    boundary is made a wall, marked in ``new_walls`` (0 or not ``write_new``: never). A reading that agrees with
+    a cell resets its count. Rays enter cells up to ``free_range`` and cross walls up to
+    ``gone_range``. With ``paired``, a crossing counts only if a ray beside it crossed a wall
+    near it too (:func:`_seen_through`). Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
     here = _grid_index(x + extent, cell, inv_cell) * n + _grid_index(y + extent, cell, inv_cell)
@@ -106,7 +105,6 @@ def revise_scan(
                         change[i, j] += 1
                         if change[i, j] >= gone:  # the wall is gone
                             hits[i, j] = 0
-                            opened[i, j] |= not new_walls[i, j]  # a wall of the dry run's world: a way opened
                             new_walls[i, j] = False
                             free[i, j] = max(free[i, j], 1)
                             change[i, j] = 0

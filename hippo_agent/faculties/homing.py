@@ -70,13 +70,6 @@ class HomingConfig(Section):
     against a wall for the rest of a run, the map showing a door there."""
     stall_progress: float = param(0.5, gt=0)
     """The progress (m) toward the place that counts for ``stall_steps``."""
-    gap_share: float | None = param(None, gt=0, le=1)
-    """Take the map's path through a gap narrower than walkable ground, by walls the map cleared in
-    a run, when it takes at most this share of the walkable path's steps (``None``: walkable paths
-    only, or any free way where the map knows none): a door newly cut in a known wall shows in the
-    map as such a gap (:meth:`~hippo_agent.faculties.map.ExplorationMap.heading_to_near`). After a
-    bump on that way, the walkable way for the rest of the run. Off by default: at 0.7 a door is
-    taken more often, and the static maze suite's runs are a little more indirect (docs: parameters)."""
 
 
 class Homing:
@@ -106,7 +99,6 @@ class Homing:
         self.closest = math.inf  # the nearest the estimate came to the place since homing last failed or started
         self.stalled = 0  # steps homing steered since it came stall_progress nearer than that
         self.heading: float | None = None  # where to head, as of the last :meth:`plan`
-        self.gap_closed = False  # bumped on the way through a gap (ExplorationMap.through_gap) in this run
 
     # ------------------------------------------------------------------ the memory
     def new_goal(self) -> None:
@@ -203,7 +195,6 @@ class Homing:
         self.bumps = 0
         self.closest, self.stalled = math.inf, 0
         self.heading = None
-        self.gap_closed = False
 
     def distance(self) -> float:
         """How far (m, by path integration) the remembered place is; inf if none."""
@@ -241,7 +232,7 @@ class Homing:
         else:
             # the place itself may be by a wall, off the walkable map: path to walkable ground
             # within approach_radius of it, the ground from which the robot goes straight on
-            heading = self.map.heading_to_near(here, np.array(target), c.approach_radius, None if self.gap_closed else c.gap_share)
+            heading = self.map.heading_to_near(here, np.array(target), c.approach_radius)
         if heading is not None and not self.searching and c.stall_steps is not None:
             if distance < self.closest - c.stall_progress:
                 self.closest, self.stalled = distance, 0
@@ -258,7 +249,6 @@ class Homing:
         ``bump_limit`` such bumps: the map's free way was not free, the estimate must be at a
         look-alike place. A bump on the last stretch starts the search round the place."""
         self.bumps += surprising
-        self.gap_closed |= self.map.through_gap  # (the gap did not let it through)
         if self.bumps >= self.config.bump_limit:
             self._failed()
             return True
@@ -289,10 +279,7 @@ class Homing:
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         """(JSON-able state, arrays): what :meth:`load_state` restores."""
         closest = None if math.isinf(self.closest) else self.closest  # (JSON has no infinity)
-        run = {
-            "searching": self.searching, "failures": self.failures, "bumps": self.bumps, "closest": closest, "stalled": self.stalled,
-            "gap_closed": self.gap_closed,
-        }  # fmt: skip
+        run = {"searching": self.searching, "failures": self.failures, "bumps": self.bumps, "closest": closest, "stalled": self.stalled}
         return run, self.memory()
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
@@ -301,7 +288,6 @@ class Homing:
         self.searching, self.failures, self.bumps = bool(state["searching"]), int(state["failures"]), int(state["bumps"])
         closest = state.get("closest")  # (saves before 0.19 hold neither)
         self.closest, self.stalled = math.inf if closest is None else float(closest), int(state.get("stalled", 0))
-        self.gap_closed = bool(state.get("gap_closed", False))  # (saves before 0.25 hold none)
 
 
 _MEMORY = ("found_sum", "found_count", "rival_sum", "rival_count")

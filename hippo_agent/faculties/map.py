@@ -140,9 +140,6 @@ class ExplorationMap:
         self.searched = np.zeros((n, n), dtype=np.bool_)
         # walls written in runs (revise, bumps): the world changed there, and may change back
         self.new_walls = np.zeros((n, n), dtype=np.bool_)
-        # walls the map held before any run wrote walls, cleared in a run (revise): a way the world
-        # opened, as a door cut in a wall (a block a run wrote and later cleared is not one)
-        self.opened = np.zeros((n, n), dtype=np.bool_)
         # scans in a row that disagreed with a cell (revise), and the last scan that counted there
         self.change = np.zeros((n, n), dtype=np.uint16)
         self.vantage = np.full((n, n), -1, dtype=np.int32)  # where the robot stood at a wall's last count (revise)
@@ -177,9 +174,6 @@ class ExplorationMap:
         # is in _parent until the next search)
         self._last_plan: tuple[Any, ...] | None = None
         self._last_found = -1
-        # heading_to_near's last choice of way (True: through an opened gap) and what it was worked out for
-        self._gap_key: tuple[Any, ...] | None = None
-        self.through_gap = False
         # (start cell, revision) of the last search everywhere reachable (reachable_visited) while its
         # paths, still in _parent, are those a search to any cell it reached would find; else None
         self._tree: tuple[int, int, int] | None = None
@@ -240,7 +234,7 @@ class ExplorationMap:
         stride = max(1, round(ranges.size * self.ray_stride_deg / 360.0))
         self._scan_id += 1
         if revise_scan(
-            self.free, self.hits, self.new_walls, self.opened, self.change, self.vantage, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
+            self.free, self.hits, self.new_walls, self.change, self.vantage, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
             self.gone_range, self.hit_range, new or 0, gone or 0, bool(write_new), bool(self.config.gone_paired),
         ):  # fmt: skip
@@ -358,44 +352,13 @@ class ExplorationMap:
         yet searched in this run; ``None`` if none can be reached: a local search."""
         return self._plan_into_disk(position, centre, radius, self.searched)
 
-    def heading_to_near(self, position: np.ndarray, centre: np.ndarray, radius: float, gap_share: float | None = None) -> float | None:
+    def heading_to_near(self, position: np.ndarray, centre: np.ndarray, radius: float) -> float | None:
         """The heading (rad) along the walkable path to the first walkable cell within ``radius``
         of ``centre`` other than the robot's own (a place by a wall is not walkable itself), or,
         when there is no such path, through any free cell that is not a wall (a doorway too narrow
-        for walkable cells may wall the place off); ``None`` if there is no path either way.
-
-        ``gap_share``: through free cells that are not walls also when that path passes within a
-        cell of an :attr:`opened` one and takes at most this share of the walkable path's steps
-        (:attr:`through_gap` says whether it does). A door cut in a known wall is seen through
-        from few places, so the map clears part of it and its cells by the jambs stay walls: the
-        opening it shows is narrower than walkable ground, and the robot fits through all the
-        same. Which way is worked out again only when the robot's cell, the grids or the place
-        change."""
-        if gap_share is None:
-            self._gap_key, self.through_gap = None, False
-        else:
-            i, j = self.index(float(position[0]), float(position[1]))
-            key = (i, j, self.revision, float(centre[0]), float(centre[1]), float(radius), float(gap_share))
-            if key != self._gap_key:
-                self._gap_key, self.through_gap = key, self._gap_is_shorter(position, centre, radius, gap_share)
-        heading = None if self.through_gap else self._plan_into_disk(position, centre, radius, self._nothing)
+        for walkable cells may wall the place off); ``None`` if there is no path either way."""
+        heading = self._plan_into_disk(position, centre, radius, self._nothing)
         return self._plan_into_disk(position, centre, radius, self._nothing, squeeze=True) if heading is None else heading
-
-    def _gap_is_shorter(self, position: np.ndarray, centre: np.ndarray, radius: float, share: float) -> bool:
-        """Whether the path into the disk over free cells passes within a cell of an opened cell and
-        takes at most ``share`` of the walkable path's steps (:meth:`heading_to_near`)."""
-        if not self.opened.any():
-            return False
-        disk = (centre, float(radius))
-        walkable = self._find(position, -1, self._nothing, False, disk)
-        if walkable < 0:
-            return False  # (heading_to_near then takes any free way there is)
-        walk_steps = int(self._steps[walkable])
-        free_way = self._find(position, -1, self._nothing, True, disk)
-        if free_way < 0 or int(self._steps[free_way]) > share * walk_steps:
-            return False
-        i, j = np.divmod(path_to(self._parent, free_way), self.n)  # (a path's cells are off the grid's border)
-        return any(bool(self.opened[i + a, j + b].any()) for a in (-1, 0, 1) for b in (-1, 0, 1))
 
     def in_sight(self, position: np.ndarray, point: np.ndarray | tuple[float, float], margin: int = 1) -> bool:
         """Whether the straight line from ``position`` to ``point`` (frame metres), and the lines
@@ -593,7 +556,7 @@ class ExplorationMap:
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
-        for name in ("change", "new_walls", "opened", "vantage"):  # (a save from before the map revised itself)
+        for name in ("change", "new_walls", "vantage"):  # (a save from before the map revised itself)
             if name not in arrays:
                 arrays = {**arrays, name: np.full_like(getattr(self, name), -1 if name == "vantage" else 0)}
         for name in _GRIDS:
@@ -604,5 +567,5 @@ class ExplorationMap:
         self.grids_replaced()
 
 
-_GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls", "opened", "vantage")
+_GRIDS = ("free", "hits", "visited", "searched", "change", "new_walls", "vantage")
 _NO_JUDGED = np.empty(0)  # scan_agreement's judged, not asked for
