@@ -65,7 +65,8 @@ def probe(args: DoorArgs) -> dict[str, Any]:
     door_phase = names.index("door")
     first_door_run = sum(p.get("runs", 4) for p in schedule["phases"][:door_phase])
     before = maze_spec(args.maze)
-    factory = agent_factory("hippo", **(json.loads(args.config) if args.config else {}))
+    overrides = json.loads(args.config) if args.config else {}
+    factory = agent_factory("hippo", **overrides)
     cells: dict[str, Any] = {}
     at_start: list[dict[str, Any]] = []
 
@@ -107,7 +108,7 @@ def probe(args: DoorArgs) -> dict[str, Any]:
         "maze": args.maze,
         "seed": args.seed,
         "cleared": args.clear,
-        "config": json.loads(args.config) if args.config else {},
+        "config": overrides,
         "door_cells": len(cells.get("flat", [])),
         "runs": rows,
     }
