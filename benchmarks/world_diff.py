@@ -1,9 +1,9 @@
 """Two records of :mod:`benchmarks.changing_world` compared layout by layout: where a change to an
 agent moved the figures, and whether by more than the runs' own scatter.
 
-``python -m benchmarks.world_diff --base BASE.json --new NEW.json`` pairs the records' changed layouts (same
-agent, seed, task, maze and phase: both records made with the same seeds) and prints, per agent and
-task:
+``python -m benchmarks.world_diff --base BASE.json --new NEW.json`` pairs the records' changed
+layouts (same agent, seed, task, maze and phase: both records made with the same seeds) and prints,
+per agent and task:
 
 - each record's headline measures (first runs and all runs reaching the goal, the successes'
   median indirectness, anchored steps within 0.5 m, and in the ``mazes`` task the door taken);
@@ -115,7 +115,7 @@ def report(comparison: dict[str, Any]) -> str:
                 x, y = e["base"][key], e["new"][key]
                 lines.append(f"  {label:34s} {_fmt(x, kind):>8s} -> {_fmt(y, kind)}")
             if "door" in e["base"]:
-                (xd, yd) = e["base"]["door"], e["new"]["door"]
+                xd, yd = e["base"]["door"], e["new"]["door"]
                 lines.append(f"  {'door taken (runs after the first)':34s} {_taken(xd):>8s} -> {_taken(yd)}")
             lines.append(
                 f"  first runs reaching the goal in one record only: base {len(e['first_run_reached_in_base_only'])}, "
