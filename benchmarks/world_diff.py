@@ -24,7 +24,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from benchmarks.common import parse_dataclass_args
+from benchmarks.common import command_line, parse_dataclass_args
 from hippo_env.files import write_json
 from hippomaze.changing_world import layout_measures, shortcut_measures
 
@@ -139,22 +139,29 @@ def _taken(door: dict[str, Any]) -> str:
     return "-" if share is None else f"{round(share * door['runs'])} of {door['runs']}"
 
 
+def _record(path: str) -> dict[str, Any]:
+    """A record of :mod:`benchmarks.changing_world` read from ``path``; exits naming what was wrong."""
+    try:
+        record = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise SystemExit(f"{path}: not a record of benchmarks.changing_world ({exc})") from exc
+    if not isinstance(record, dict) or not isinstance(record.get("rows"), list):
+        raise SystemExit(f"{path}: not a record of benchmarks.changing_world (no 'rows' list)")
+    return record
+
+
 def main(argv: list[str] | None = None) -> None:
     args = parse_dataclass_args(WorldDiffArgs, __doc__, argv)
     if not args.base or not args.new:
         raise SystemExit("world_diff needs --base and --new: two records of python -m benchmarks.changing_world")
-    records = []
-    for path in (args.base, args.new):
-        try:
-            records.append(json.loads(Path(path).read_text())["rows"])
-        except (OSError, ValueError, KeyError) as exc:
-            raise SystemExit(f"{path}: not a record of benchmarks.changing_world ({exc})") from exc
-    comparison = compare(*records)
+    records = [_record(path) for path in (args.base, args.new)]
+    comparison = compare(records[0]["rows"], records[1]["rows"])
     if not comparison:
         raise SystemExit("the two records share no agent, task and seed to compare")
     print(report(comparison))
     if args.out:
-        write_json(args.out, {"base": args.base, "new": args.new, "comparison": comparison})
+        made_by = {"base": records[0].get("command"), "new": records[1].get("command")}  # (each record's own command)
+        write_json(args.out, {"command": command_line(), "base": args.base, "new": args.new, "made_by": made_by, "comparison": comparison})
         print(f"wrote {args.out}")
 
 

@@ -64,9 +64,9 @@ def test_the_command_writes_its_comparison_and_refuses_records_that_are_not_ones
     b.write_text(json.dumps({"rows": [_row(1, {"barrier": True})]}))
     main(["--base", str(a), "--new", str(b), "--out", str(out)])
     assert "first runs reaching the goal in one record only: base 0, new 1" in capsys.readouterr().out
-    assert json.loads(out.read_text())["comparison"]["hippo"]["mazes"]["first_run_reached_in_new_only"] == [
-        [1, "mazes", "maze2", "barrier"]
-    ]
+    written = json.loads(out.read_text())
+    assert written["comparison"]["hippo"]["mazes"]["first_run_reached_in_new_only"] == [[1, "mazes", "maze2", "barrier"]]
+    assert written["made_by"] == {"base": None, "new": None}  # (these records say no command)
     (tmp_path / "bad.json").write_text("{}")
     with pytest.raises(SystemExit, match="not a record"):
         main(["--base", str(tmp_path / "bad.json"), "--new", str(b)])
