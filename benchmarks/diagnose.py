@@ -35,7 +35,7 @@ the agent never does) and measures, per maze:
   estimate is replaced by the true position at every step (exact self-localisation), with the
   doubt about look-alike places off (``localisation.look_alikes = 0``): a look-alike place can fit the
   agent's own map better than the true position, and the doubt would then re-anchor an estimate
-  that cannot be wrong.
+  that cannot be wrong; and with ``map.dry_reachable_only`` off, for the same reason.
 
 ``python -m benchmarks.diagnose --maze maze2 --trials 10 --seed 0`` prints the figures and writes
 ``benchmarks/results/diagnose/<maze>[-paper|-oracle].json``.
@@ -139,6 +139,10 @@ class OracleIntegrator(PathIntegrator):
             self.estimate = self.truth.copy()
             self.confidence = 1.0
             self.anchored = True
+
+    def correct_anchored(self, place: Any) -> None:
+        """Ignores the vote: the estimate is the truth."""
+        self.correct()
 
 
 class Watcher:
@@ -288,7 +292,7 @@ def diagnose(args: DiagnoseArgs) -> tuple[dict[str, Any], list[np.ndarray]]:
     overrides = {} if args.dry_run_steps < 0 else {"model.dry_run_steps": args.dry_run_steps}
     overrides.update(json.loads(args.config) if args.config else {})
     if args.oracle:
-        overrides["localisation.look_alikes"] = 0
+        overrides.update({"localisation.look_alikes": 0, "map.dry_reachable_only": False})
     config = (AgentConfig.paper() if args.paper else AgentConfig()).with_values(overrides)
     places = sample_places(spec)
     place_distance = path_distances(spec, places, places)

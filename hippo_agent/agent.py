@@ -181,6 +181,8 @@ class HippocampalAgent:
         finally:
             if self.exploration is not None:
                 self.exploration.end_dry_run()
+            if self.map is not None:
+                self.map.end_dry_run()
             self.phase = "trial"
             self.started = False
 
@@ -328,7 +330,10 @@ class HippocampalAgent:
         pi.move_by_odometry(s.odometry, s.heading_vec)
         place.step_sense(s.b)  # what the boundary code alone says
         was_anchored = pi.anchored
-        pi.correct(*pi.vote(place), *self._evidence(s))
+        if was_anchored:
+            pi.correct_anchored(place)
+        else:
+            pi.correct(*pi.vote(place), *self._evidence(s))
         if localisation is not None:
             localisation.check(s.ranges, s.heading, self.total_steps, self.phase == "dry", pi.anchored and not was_anchored)
         if pi.anchored:

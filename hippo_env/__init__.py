@@ -39,7 +39,7 @@ __all__ = [
     "run_dmtp",
     "write_json",
 ]
-__version__ = "0.25.1"  # the distribution's one version (pyproject.toml reads it)
+__version__ = "0.26.0"  # the distribution's one version (pyproject.toml reads it)
 
 if "HippoMaze-v0" not in registry:
     register(

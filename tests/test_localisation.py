@@ -333,3 +333,55 @@ def test_a_bump_writes_no_wall_while_the_scan_crosses_a_wall_the_map_holds(small
     for _ in range(12):
         agent.observe(0, still, 0.0, False, False, {"collision": True})
     assert not agent.map.wall_near(agent.pi.estimate, heading, distance)
+
+
+@pytest.mark.parametrize("dry_reachable_only", [False, True])
+def test_an_anchoring_where_the_dry_runs_ground_cannot_be_walked_to_is_taken_to_be_wrong(dry_reachable_only):
+    """The map holds the dry run's round room and a few cells a scan entered 4 m away, beyond the
+    room's wall (where a misplaced run wrote them). An estimate anchored there stands on known
+    ground; with ``map.dry_reachable_only`` it is taken to be wrong all the same (the robot cannot
+    walk there from the ground the dry run found), and the robot anchors afresh."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    config = AgentConfig().with_values({"model.n_place": 50, "map.dry_reachable_only": dry_reachable_only})
+    agent = HippocampalAgent(env.observation_space, env.action_space, config, seed=0)
+    ranges = ring_scan(n_rays=env.observation_space["ranges"].shape[0])  # a round room of 2 m
+    agent.map.observe(np.zeros(2), 0.0, ranges, max_range=agent.max_range)
+    agent.map.end_dry_run()
+    outside = np.array([4.0, 0.0])
+    i, j = agent.map.index(*outside)
+    agent.map.free[i - 1 : i + 2, j - 1 : j + 2] = 1  # the ghost's first cells
+    agent.map.grids_replaced()
+    agent.phase = "trial"
+    agent.pi.anchored, agent.pi.estimate = True, outside.copy()
+    assert agent.map.known_ground(outside)
+    agent.localisation.check(ranges, 0.0, step=1, dry=False, just_anchored=True)  # (an odd step: no fit is checked)
+    assert agent.pi.anchored != dry_reachable_only
+
+
+@pytest.mark.parametrize("lost_new_wall_weight", [0.0, 0.5])
+def test_while_lost_walls_written_in_runs_count_lost_new_wall_weight(lost_new_wall_weight):
+    """A round room of 2 m from the dry run, and a wall a run wrote 1 m east of the centre (a block
+    that may have moved since). The samples' weights while lost read the scan's fit with such walls
+    counting ``lost_new_wall_weight``; once anchored, the check's fit counts ``new_wall_weight``."""
+    env = gym.make("HippoMaze-v0", maze="open", odometry=True)
+    values = {"model.n_place": 50, "localisation.lost_new_wall_weight": lost_new_wall_weight}
+    agent = HippocampalAgent(env.observation_space, env.action_space, AgentConfig().with_values(values), seed=0)
+    n_rays = env.observation_space["ranges"].shape[0]
+    agent.map.observe(np.zeros(2), 0.0, ring_scan(n_rays=n_rays), max_range=agent.max_range)
+    i, j = agent.map.index(1.0, 0.0)
+    agent.map.hits[i, j - 1 : j + 2] = agent.map.free[i, j - 1 : j + 2] + 1
+    agent.map.new_walls[i, j - 1 : j + 2] = True
+    agent.map.grids_replaced()
+    scan = ring_scan(n_rays=n_rays)
+    east = np.cos(np.arange(n_rays) * 2 * math.pi / n_rays) > math.cos(math.radians(20))
+    scan[east] = 1.0  # (the block, seen from the centre)
+    agent.pi.anchored = False
+    points = np.array([[0.0, 0.0], [0.5, 0.5]])
+
+    def fit(weight: float) -> np.ndarray:
+        return agent.map.scan_agreement(points, 0.0, scan, agent.max_range, None, 0.25, new_wall_weight=weight)
+
+    assert not np.array_equal(fit(0.0), fit(0.5))  # (rays ending by the run's wall count in the fits)
+    likelihood, _ = agent.localisation.evidence(scan, 0.0, dry=False)
+    np.testing.assert_allclose(likelihood(points), np.exp(agent.config.localisation.beta * fit(lost_new_wall_weight)))
+    np.testing.assert_array_equal(agent.localisation._fit(points, 0.0, scan), fit(agent.config.localisation.new_wall_weight))

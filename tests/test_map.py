@@ -710,3 +710,58 @@ def test_the_walkability_the_searches_remember_is_that_of_the_grids_after_every_
     agent.observe = observe_and_check  # type: ignore[method-assign]
     agent.dry_run(env)
     assert len(kept) > 500 and np.median(kept) > 1_000  # (the scans kept most of what the searches worked out)
+
+
+def _open_east(radius: float) -> np.ndarray:
+    """A round room of ``radius`` open east: the rays within 30 degrees of east meet nothing (max range)."""
+    scan = _ring(radius)
+    east = np.cos(np.arange(720) * 2 * math.pi / 720) > math.cos(math.radians(30))
+    scan[east] = 10.0
+    return scan
+
+
+@pytest.mark.parametrize("dry_reachable_only", [False, True])
+def test_with_dry_reachable_only_a_run_maps_new_ground_only_where_the_dry_runs_ground_can_be_walked_to(dry_reachable_only):
+    """The dry run found a round room of 2 m open east (to 4 m, how far rays enter cells). Cells a
+    misplaced scan entered 4 m west, beyond the room's wall, are known ground that walkable ground
+    does not join to the room: with ``dry_reachable_only`` a run's scan from there enters none of
+    the unknown cells round it. Farther east than the dry run saw, on ground a run's scan entered,
+    joined to the room, a scan maps new ground either way."""
+    m = ExplorationMap(MapConfig(extent=8.0, dry_reachable_only=dry_reachable_only))
+    m.observe(np.zeros(2), 0.0, _open_east(2.0), max_range=10.0)
+    m.end_dry_run()
+    assert (m.dry_ground is not None) == dry_reachable_only
+    ghost = np.array([-4.0, 0.0])
+    i, j = m.index(*ghost)
+    m.free[i - 1 : i + 2, j - 1 : j + 2] = 1
+    m.grids_replaced()
+    assert m.known_ground(ghost)
+    assert m.reaches_dry_ground(np.zeros(2))
+    assert m.reaches_dry_ground(ghost) != dry_reachable_only
+    m.revise(ghost, 0.0, _ring(1.0), max_range=10.0)
+    assert bool(m.known_free[m.index(-4.5, 0.0)]) != dry_reachable_only
+    m.revise(np.array([3.5, 0.0]), 0.0, _open_east(1.0), max_range=10.0)  # (on the dry run's ground)
+    far_east = np.array([5.5, 0.0])
+    assert m.known_ground(far_east)
+    if dry_reachable_only:
+        assert not m.known_ground(far_east, m.dry_ground)
+    assert m.reaches_dry_ground(far_east)
+    before = np.count_nonzero(m.known_free)
+    m.revise(far_east, 0.0, _open_east(1.0), max_range=10.0)
+    assert np.count_nonzero(m.known_free) > before
+
+
+def test_the_dry_runs_ground_is_saved_with_the_map_and_absent_from_saves_without_it():
+    m = ExplorationMap(MapConfig(extent=5.0, dry_reachable_only=True))
+    m.observe(np.zeros(2), 0.0, ring_scan(radius=2.0), max_range=10.0)
+    fresh = ExplorationMap(MapConfig(extent=5.0, dry_reachable_only=True))
+    fresh.load_state(*m.state())
+    assert fresh.dry_ground is None and fresh.reaches_dry_ground(np.array([4.0, 4.0]))  # (no dry run ended yet)
+    m.end_dry_run()
+    fresh.load_state(*m.state())
+    np.testing.assert_array_equal(fresh.dry_ground, m.dry_ground)
+    assert not fresh.reaches_dry_ground(np.array([4.0, 4.0]))
+    arrays = dict(m.state()[1])
+    arrays["dry_ground"] = np.zeros((3, 3), dtype=bool)
+    with pytest.raises(ValueError, match="dry_ground"):
+        fresh.load_state({}, arrays)

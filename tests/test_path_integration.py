@@ -377,6 +377,33 @@ def test_the_vote_and_the_estimate_are_the_formulas_written_in_numpy():
     assert pi.confidence == pytest.approx(w[near].sum(), rel=1e-12)
 
 
+def test_an_anchored_correction_by_the_vote_is_the_general_correction_bit_for_bit():
+    # two copies of one anchored belief, one corrected by correct(*vote(place)), the other by correct_anchored(place):
+    # votes heeded, votes ignored at the edge of the map (a cell active without a centre), none at all, and resamplings
+    beliefs = [integrator(n_place=6, min_motion_noise=0.05, particles=200, resample_ess=0.9) for _ in range(2)]
+    place = place_cells(6)
+    for pi in beliefs:
+        pi.start_run()
+        pi.centres[:] = [[0.0, 0.0], [0.5, 0.1], [1.0, 0.3], [1.5, 0.2], [2.0, 0.0], [0.0, 0.0]]
+        pi.centre_mass[:] = [5.0, 5.0, 5.0, 5.0, 5.0, 0.0]
+        pi.spread[:] = [0.0, 0.1, 0.0, 0.3, 0.0, 0.0]
+    rng = np.random.default_rng(3)
+    for step in range(40):
+        place.v_sense[:] = np.where(rng.random(6) < 0.4, rng.random(6), 0.0)
+        for pi, by_vote in zip(beliefs, (True, False)):
+            assert pi.anchored
+            pi.move(np.array([0.05, 0.01]))
+            if by_vote:
+                pi.correct(*pi.vote(place))
+            else:
+                pi.correct_anchored(place)
+        same_state(beliefs[1].state(), beliefs[0].state())
+        np.testing.assert_array_equal(beliefs[1].estimate, beliefs[0].estimate)
+    beliefs[0].lose()
+    with pytest.raises(ValueError, match="anchored"):
+        beliefs[0].correct_anchored(place)
+
+
 # ------------------------------------------------------------------ save / load
 def kidnapped(n_place: int = 5) -> PathIntegrator:
     """An integrator with centres learnt, anchored, found wrong (a place ruled out) and moved on while lost."""

@@ -485,6 +485,33 @@ def voting_cells(v_sense, centre_mass, min_mass, centres, spread, rates, where, 
 
 
 @njit(cache=True, error_model="numpy")
+def vote_with_exponents(
+    v_sense, centre_mass, min_mass, centres, spread, min_share, particles, lag, last_step, vote_var, rates, where, spreads, exponents
+):  # pragma: no cover - compiled
+    """:func:`voting_cells` into ``rates``, ``where`` and ``spreads``, then, if any cell votes and
+    their share is at least ``min_share``, :func:`vote_exponents` of them into the first
+    ``n_samples * n`` values of the flat ``exponents`` (sample-major): one call for the vote of a
+    step once anchored. Returns ``n``, 0 where the vote is ignored."""
+    n, share = voting_cells(v_sense, centre_mass, min_mass, centres, spread, rates, where, spreads)
+    if n == 0 or not share >= min_share:
+        return 0
+    n_samples = particles.shape[0]
+    out = exponents[: n_samples * n].reshape((n_samples, n))
+    vote_exponents(particles, lag, last_step, where[:n], spreads[:n], vote_var, out)
+    return n
+
+
+@njit(cache=True, error_model="numpy")
+def reweigh_and_cluster(gauss, n, rates, spreads, vote_var, floor, weights, particles, radius_sq):  # pragma: no cover - compiled
+    """:func:`reweigh` by the first ``n`` cells' Gaussians (the first ``n_samples * n`` values of the
+    flat ``gauss``, sample-major), then :func:`cluster_mean`: returns the effective sample size and
+    the cluster's (x, y, weight)."""
+    ess = reweigh(gauss[: weights.size * n].reshape((weights.size, n)), rates[:n], spreads[:n], vote_var, floor, weights)
+    x, y, mass = cluster_mean(particles, weights, radius_sq)
+    return ess, x, y, mass
+
+
+@njit(cache=True, error_model="numpy")
 def max_over_directions(W_slots, slot, slot_cells, rows):  # pragma: no cover - compiled
     """The nonzero entries of ``M[rows[r], slot_cells[c]] = max_k W_slots[slot[rows[r]], k, c]``
     (NaN propagates, as in ``ndarray.max``; a row whose cell has no slot has none): per row their

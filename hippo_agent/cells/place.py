@@ -96,7 +96,8 @@ class PlaceCells:
         self.s_sense = np.zeros(self.n)
         self.v_sense = np.zeros(self.n)
         self._drive: tuple[np.ndarray, float] | None = None  # this step's W_pb b and sum(b), from step_sense
-        self._scratch = np.empty((2, self.n))  # a step's W_pb b and extra drive (resized when cells are recruited)
+        # a step's W_pb b and extra drive (scratch, resized when cells are recruited)
+        self._step_drive, self._extra_drive = np.empty(self.n), np.empty(self.n)
 
     def grow(self, extra: int, rng: np.random.Generator) -> None:
         """Recruit ``extra`` new cells: binary ``W_pb`` rows as at the start (eq. 5), everything
@@ -159,9 +160,9 @@ class PlaceCells:
     def step_sense(self, b: np.ndarray) -> None:
         """One update of the response to the BVC rates ``b`` alone (``s_sense``, ``v_sense``);
         :meth:`step_driven` then updates the rates with the same ``b``."""
-        if self._scratch.shape[1] != self.n:
-            self._scratch = np.empty((2, self.n))
-        Wb, s, v = self._scratch[0], np.empty(self.n), np.empty(self.n)
+        if self._step_drive.size != self.n:
+            self._step_drive, self._extra_drive = np.empty(self.n), np.empty(self.n)
+        Wb, s, v = self._step_drive, np.empty(self.n), np.empty(self.n)
         b_sum = _kernels.sense_step(
             self.W_bp, np.asarray(b, dtype=np.float64), self.Gamma_pb, self.Gamma_pp, self.k, self.psi, self.s_sense, self.v_sense, Wb, s, v
         )
@@ -190,7 +191,7 @@ class PlaceCells:
         and the update in one compiled call."""
         assert self._drive is not None, "step_sense comes first"
         Wb, b_sum = self._drive
-        s, v, extra = np.empty(self.n), np.empty(self.n), self._scratch[1]
+        s, v, extra = np.empty(self.n), np.empty(self.n), self._extra_drive
         _kernels.centre_driven_advance(
             self.s, self.v, Wb, self.Gamma_pb * b_sum, self.Gamma_pp, self.k, self.psi, centres, centre_mass, position, constants,
             extra, s, v,

@@ -9,6 +9,7 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "distance",
     "enter_scan",
     "known_with_steps",
     "lines_clear",
@@ -451,6 +452,13 @@ def _farthest_in_sight(free, hits, path, gx, gy, most, squeeze, walk_cache, walk
             break
         best = k
     return best
+
+
+@njit(cache=True)
+def distance(tx, ty, x, y):  # pragma: no cover - compiled
+    """From ``(x, y)`` to ``(tx, ty)``: the C library's ``hypot``, which NumPy's ``np.hypot`` calls
+    too (Python's ``math.hypot`` rounds differently), without NumPy's cost per scalar call."""
+    return math.hypot(tx - x, ty - y)
 
 
 @njit(cache=True)

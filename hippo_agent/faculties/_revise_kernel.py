@@ -38,6 +38,7 @@ def revise_scan(
     gone_evidence,
     write_new,
     paired,
+    enter_unknown,
 ):  # pragma: no cover - compiled
     """Ray march every ``stride``-th ray against what the map holds (:meth:`ExplorationMap.revise`):
     cells unknown so far are entered as :func:`enter_scan` enters them; a wall the ray crosses
@@ -51,7 +52,8 @@ def revise_scan(
     boundary is made a wall, marked in ``new_walls`` (0 or not ``write_new``: never). A reading that agrees with
     a cell resets its count. Rays enter cells up to ``free_range`` and cross walls up to
     ``gone_range``. With ``paired``, a crossing counts only if a ray beside it crossed a wall
-    near it too (:func:`_seen_through`). Returns how many cells changed."""
+    near it too (:func:`_seen_through`). Without ``enter_unknown``, cells unknown so far stay so.
+    Returns how many cells changed."""
     n = free.shape[0]
     changed = 0
     here = _grid_index(x + extent, cell, inv_cell) * n + _grid_index(y + extent, cell, inv_cell)
@@ -86,8 +88,9 @@ def revise_scan(
                 if t >= free_range:
                     pass  # beyond the range that enters cells: only a wall crossed counts
                 elif free[i, j] == 0 and hits[i, j] == 0:
-                    free[i, j] = 1
-                    changed += 1
+                    if enter_unknown:
+                        free[i, j] = 1
+                        changed += 1
                 elif not (hits[i, j] > 0 and hits[i, j] >= free[i, j]) and stamp[i, j] != scan_id:
                     change[i, j] = 0  # free, as the map holds
             # a wall crossed through its middle (the cheap tests first: most samples are not a cell's second)
@@ -117,8 +120,9 @@ def revise_scan(
         if i < 1 or j < 1 or i >= n - 1 or j >= n - 1:
             continue
         if free[i, j] == 0 and hits[i, j] == 0:
-            hits[i, j] = 1
-            changed += 1
+            if enter_unknown:
+                hits[i, j] = 1
+                changed += 1
             continue
         if walls_beside(free, hits, new_walls, i, j):
             if stamp[i, j] != scan_id:

@@ -27,6 +27,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from hippo_agent.faculties._map_kernels import distance
 from hippo_agent.faculties.localisation import Localisation
 from hippo_agent.faculties.map import ExplorationMap
 from hippo_agent.faculties.path_integration import PathIntegrator
@@ -294,8 +295,9 @@ _MEMORY = ("found_sum", "found_count", "rival_sum", "rival_count")
 
 
 def _distance(tx: float, ty: float, x: float, y: float) -> float:
-    """From ``(x, y)`` to ``(tx, ty)``, m (NumPy's hypot, the one homing has always used)."""
-    return float(np.hypot(tx - x, ty - y))
+    """From ``(x, y)`` to ``(tx, ty)``, m (NumPy's hypot, the one homing has always used, compiled:
+    :func:`~hippo_agent.faculties._map_kernels.distance`)."""
+    return distance(tx, ty, x, y)
 
 
 def _toward(x: float, y: float, tx: float, ty: float, length: float) -> tuple[float, float]:

@@ -127,6 +127,11 @@ class LocalisationConfig(Section):
     counts for a place, against 1 for a wall from the dry run: such walls come and go (the blocks of
     an earlier layout may linger in the map), and blocks on a grid repeat, so a place a block's width
     off can fit them as well as the true one."""
+    lost_new_wall_weight: float = param(0.0, ge=0, le=1)
+    """``new_wall_weight`` while the robot is lost (the samples' weights, the map's proposals): a
+    robot put down among blocks that moved since the map wrote them fits a wrong place that holds
+    them better than the true place, and anchors there; once anchored, the walls of the layout it
+    has seen again count ``new_wall_weight`` in the checks."""
 
 
 class Localisation:
@@ -219,7 +224,7 @@ class Localisation:
         def likelihood(particles: np.ndarray) -> np.ndarray | None:
             if dry or self.pi.anchored:
                 return None
-            return np.exp(self.config.beta * self._fit(particles, heading, ranges))
+            return np.exp(self.config.beta * self._fit(particles, heading, ranges, lost=True))
 
         def proposals() -> np.ndarray | None:
             c = self.config
@@ -228,14 +233,20 @@ class Localisation:
             candidates = self._walkable()
             if candidates.shape[0] == 0:
                 return None
-            fit = self._fit(candidates, heading, ranges)
+            fit = self._fit(candidates, heading, ranges, lost=True)
             p = np.exp(c.beta * (fit - fit.max()))
             return candidates[self.rng.choice(fit.size, size=c.proposals, p=p / p.sum())]
 
         return likelihood, proposals
 
     def _fit(
-        self, points: np.ndarray, heading: float, ranges: np.ndarray, around: np.ndarray | None = None, judged: np.ndarray | None = None
+        self,
+        points: np.ndarray,
+        heading: float,
+        ranges: np.ndarray,
+        around: np.ndarray | None = None,
+        judged: np.ndarray | None = None,
+        lost: bool = False,
     ) -> np.ndarray:
         """The beam model's fit of the scan to the map from each of ``points`` (:meth:`ExplorationMap.scan_agreement`;
         ``judged``: the first place's fit as :meth:`placement` judges it, from the same ray march)."""
@@ -247,7 +258,7 @@ class Localisation:
             around,
             self.config.short_weight,
             judged=judged,
-            new_wall_weight=self.config.new_wall_weight,
+            new_wall_weight=self.config.lost_new_wall_weight if lost else self.config.new_wall_weight,
         )
 
     def _walkable(self) -> np.ndarray:
@@ -263,7 +274,11 @@ class Localisation:
         (``lost_crossing``) or a look-alike place fits better by ``doubt_margin``."""
         if dry:
             return
-        if just_anchored and not self.map.known_ground(self.pi.estimate) and self.map.explored_area() > 0.0:
+        if (
+            just_anchored
+            and not (self.map.known_ground(self.pi.estimate) and self.map.reaches_dry_ground(self.pi.estimate))
+            and self.map.explored_area() > 0.0
+        ):
             self.relocalise()  # off the map it holds: not where the robot can stand
             return
         if just_anchored:
@@ -273,12 +288,13 @@ class Localisation:
             return
         c = self.config
         fits = self._fit(self.look_alikes, heading, ranges, around=self.pi.estimate, judged=self._judged)
-        self._judged_fit, self._judged_key, self._judged_ranges = float(self._judged[0]), self._key(heading), ranges
+        judged_fit, short_share, middles = self._judged.tolist()
+        self._judged_fit, self._judged_key, self._judged_ranges = judged_fit, self._key(heading), ranges
         rate = min(1.0, c.fit_rate * every)
-        own = float(fits[0])
+        own, *others = fits.tolist()  # (the estimate's fit, then the look-alike places'; floats: faster than NumPy on a few values)
         self.fit = (1.0 - rate) * self.fit + rate * own
         if c.lost_crossing is not None:
-            crossing = self._judged_fit < c.crossing_fit and self._judged[1] >= c.changed_share and self._judged[2] > 0
+            crossing = judged_fit < c.crossing_fit and short_share >= c.changed_share and middles > 0
             self.crossing += c.crossing_rate * (float(crossing) - self.crossing)
         if self.fit < c.lost_agreement:
             self.relocalise()
@@ -286,10 +302,9 @@ class Localisation:
             self.relocalise(rule_out=True)
         elif len(self.look_alikes):
             self.own_fit = (1.0 - rate) * self.own_fit + rate * own
-            # (in floats: faster than NumPy on a few values)
-            running = [(1.0 - rate) * old + rate * new for old, new in zip(self.look_alike_fit.tolist(), fits.tolist()[1:])]
+            running = [(1.0 - rate) * old + rate * new for old, new in zip(self.look_alike_fit.tolist(), others)]
             self.look_alike_fit = np.array(running)
-            if max(running) > self.own_fit + c.doubt_margin and not self._fits_nearby(heading, ranges, max(fits.tolist()[1:])):
+            if max(running) > self.own_fit + c.doubt_margin and not self._fits_nearby(heading, ranges, max(others)):
                 self.relocalise(rule_out=True)
 
     def _fits_nearby(self, heading: float, ranges: np.ndarray, fit: float) -> bool:

@@ -105,6 +105,10 @@ class MapConfig(Section):
     gone_range: float = param(6.0, gt=0)
     """A ray crossing a wall the map holds counts toward clearing it up to this distance (m); above
     ``free_range``: a door is seen through from farther than the map is filled in."""
+    dry_reachable_only: bool = param(True)
+    """In runs, an estimate anchors, and a scan enters unknown cells, only where walkable ground joins
+    the ground the last dry run found: cells a misplaced scan entered beyond the maze's walls are
+    known ground too, and an estimate anchored there would map a ghost of the maze round it."""
     gone_paired: bool = param(True)
     """A ray counts toward clearing a wall only if a ray beside it in the scan (``ray_stride_deg``
     to either side) first crossed a wall within two cells of it too: an opening is seen through over
@@ -178,6 +182,7 @@ class ExplorationMap:
         # paths, still in _parent, are those a search to any cell it reached would find; else None
         self._tree: tuple[int, int, int] | None = None
         self._marks = 0  # changes to visited and searched, which a search for ground they do not hold depends on
+        self.dry_ground: np.ndarray | None = None  # the free ground the last dry run found (dry_reachable_only)
 
     # ------------------------------------------------------------------ senses
     def observe(
@@ -237,6 +242,7 @@ class ExplorationMap:
             self.free, self.hits, self.new_walls, self.change, self.vantage, self._scan_stamp, self._hit_stamp, self._scan_id, float(position[0]), float(position[1]),
             float(heading), ranges, stride, float(max_range), self.extent, self.cell, self._inv_cell, self.free_range,
             self.gone_range, self.hit_range, new or 0, gone or 0, bool(write_new), bool(self.config.gone_paired),
+            self.reaches_dry_ground(position),
         ):  # fmt: skip
             self.revision += 1
         self.mark(position, search_radius)
@@ -540,6 +546,24 @@ class ExplorationMap:
         free, hits = self.free[rows, cols], self.hits[rows, cols]
         return bool(np.any((free > 0) & (hits < free)))
 
+    def end_dry_run(self) -> None:
+        """The dry run is over: with ``dry_reachable_only``, the ground it found is kept (:meth:`reaches_dry_ground`)."""
+        if self.config.dry_reachable_only:
+            self.dry_ground = self.known_free
+
+    def reaches_dry_ground(self, point: np.ndarray) -> bool:
+        """Whether walkable ground joins ``point`` to the ground the last dry run found (``True`` before one)."""
+        if self.dry_ground is None or self.known_ground(point, self.dry_ground):
+            return True
+        i, j = self.index(float(point[0]), float(point[1]))
+        self._search_id[0] += 1
+        self._last_plan = self._tree = None  # (this search overwrites the last one's paths)
+        found, _ = search(
+            self.free, self.hits, ~self.dry_ground, i, j, -1, self._stamp, self._parent, self._queue, self._search_id[0], False,
+            self._walk_cache, self._walk_id(),
+        )  # fmt: skip
+        return bool(found >= 0)
+
     @property
     def known_free(self) -> np.ndarray:
         """Cells the rays have shown free (a boolean grid)."""
@@ -552,7 +576,8 @@ class ExplorationMap:
     # ------------------------------------------------------------------ save / load
     def state(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         """(JSON-able state, arrays): what :meth:`load_state` restores."""
-        return {}, {name: getattr(self, name) for name in _GRIDS}
+        dry = {} if self.dry_ground is None else {"dry_ground": self.dry_ground}
+        return {}, {**{name: getattr(self, name) for name in _GRIDS}, **dry}
 
     def load_state(self, state: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state`."""
@@ -564,6 +589,10 @@ class ExplorationMap:
             if arr is None or arr.shape != ref.shape:
                 raise ValueError(f"the map's array {name!r} is missing or not of shape {ref.shape}")
             setattr(self, name, arr.astype(ref.dtype))
+        dry_ground = arrays.get("dry_ground")  # (none before a dry run, and in saves that kept none)
+        if dry_ground is not None and dry_ground.shape != self.free.shape:
+            raise ValueError(f"the map's array 'dry_ground' is not of shape {self.free.shape}")
+        self.dry_ground = None if dry_ground is None else dry_ground.astype(np.bool_)
         self.grids_replaced()
 
 

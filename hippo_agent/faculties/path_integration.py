@@ -119,7 +119,9 @@ def odometry_step(odometry: Any, heading_vec: np.ndarray) -> np.ndarray:
 def _odometry_xy(odometry: Any, heading_vec: np.ndarray) -> tuple[float, float]:
     """:func:`odometry_step` as two floats."""
     try:
-        forward, left = np.asarray(odometry, dtype=np.float64).tolist()  # (floats: faster arithmetic)
+        # (floats: faster arithmetic; those of an array of float64 or narrower are its float64 copy's)
+        is_float_array = isinstance(odometry, np.ndarray) and odometry.dtype.kind == "f" and odometry.itemsize <= 8
+        forward, left = (odometry if is_float_array else np.asarray(odometry, dtype=np.float64)).tolist()
     except (TypeError, ValueError) as exc:
         raise ValueError("observation 'odometry' must be (forward, left) in metres: path integration needs it") from exc
     hx, hy = heading_vec.tolist()
@@ -173,6 +175,7 @@ class PathIntegrator:
         self.spread = np.zeros(n_place)
         self.spread_mass = np.zeros(n_place)
         self._vote = (np.empty(n_place), np.empty((n_place, 2)), np.empty(n_place))  # scratch for the vote
+        self._exponents = np.empty(self.n_particles * n_place)  # scratch: the vote's Gaussians, sample by sample
         two_var = 2.0 * c.sigma * c.sigma
         # beyond this squared distance the Gaussian is below threshold * 2^-54 (with a margin of a factor e
         # for exp's rounding), less than half a float's spacing at the threshold: subtracting it leaves
@@ -188,6 +191,7 @@ class PathIntegrator:
             setattr(self, name, np.concatenate([getattr(self, name), np.zeros(extra)]))
         n = self.centre_mass.size
         self._vote = (np.empty(n), np.empty((n, 2)), np.empty(n))
+        self._exponents = np.empty(self.n_particles * n)
 
     # ------------------------------------------------------------------ the place cells
     def drive(self, position: np.ndarray | None = None) -> np.ndarray:
@@ -324,6 +328,33 @@ class PathIntegrator:
         if not self.anchored and len(self.ruled_out):
             self._weigh_down_ruled_out()
         self._summarise()
+
+    def correct_anchored(self, place: PlaceCells) -> None:
+        """Once anchored, :meth:`correct` by the place code's :meth:`vote` with no further evidence
+        (none comes from the map then): the same arithmetic, with the vote and its Gaussians'
+        exponents in one compiled call and, after NumPy's exp, the re-weighting and the estimate
+        in another."""
+        if not self.anchored:
+            raise ValueError("correct_anchored is for an anchored belief: use correct(*vote(place), ...)")
+        rates, where, spreads = self._vote
+        vote_var = self.vote_sigma**2
+        n = _kernels.vote_with_exponents(
+            place.v_sense, self.centre_mass, self.config.min_mass, self.centres, self.spread, self.min_mapped,
+            self.particles, self.lag, self.last_step, vote_var, rates, where, spreads, self._exponents,
+        )  # fmt: skip
+        radius_sq = self.anchor_radius**2
+        if n:
+            gauss = self._exponents[: self.n_particles * n]
+            np.exp(gauss, out=gauss)  # NumPy's vectorised exp, as in correct
+            ess, x, y, self.confidence = _kernels.reweigh_and_cluster(
+                gauss, n, rates, spreads, vote_var, self.vote_floor, self.weights, self.particles, radius_sq
+            )
+            if not ess < self.resample_ess * self.n_particles:
+                self.estimate = np.array([x, y])
+                return
+            self._resample()  # (the cluster is then that of the samples drawn)
+        x, y, self.confidence = _kernels.cluster_mean(self.particles, self.weights, radius_sq)
+        self.estimate = np.array([x, y])
 
     def lose(self, rule_out: bool = False) -> None:
         """The estimate is known to be wrong: anchor afresh, as after a kidnap. With ``rule_out``
