@@ -183,6 +183,8 @@ class ExplorationMap:
         self._tree: tuple[int, int, int] | None = None
         self._marks = 0  # changes to visited and searched, which a search for ground they do not hold depends on
         self.dry_ground: np.ndarray | None = None  # the free ground the last dry run found (dry_reachable_only)
+        # reaches_dry_ground's search: its own stamp, parent and queue, so that the planner's cached paths stay
+        self._reach, self._reach_id = np.zeros((3, n * n), dtype=np.int32), 0
 
     # ------------------------------------------------------------------ senses
     def observe(
@@ -556,11 +558,10 @@ class ExplorationMap:
         if self.dry_ground is None or self.known_ground(point, self.dry_ground):
             return True
         i, j = self.index(float(point[0]), float(point[1]))
-        self._search_id[0] += 1
-        self._last_plan = self._tree = None  # (this search overwrites the last one's paths)
+        self._reach_id += 1
+        stamp, parent, queue = self._reach
         found, _ = search(
-            self.free, self.hits, ~self.dry_ground, i, j, -1, self._stamp, self._parent, self._queue, self._search_id[0], False,
-            self._walk_cache, self._walk_id(),
+            self.free, self.hits, ~self.dry_ground, i, j, -1, stamp, parent, queue, self._reach_id, False, self._walk_cache, self._walk_id(),
         )  # fmt: skip
         return bool(found >= 0)
 
@@ -589,8 +590,7 @@ class ExplorationMap:
             if arr is None or arr.shape != ref.shape:
                 raise ValueError(f"the map's array {name!r} is missing or not of shape {ref.shape}")
             setattr(self, name, arr.astype(ref.dtype))
-        dry_ground = arrays.get("dry_ground")  # (none before a dry run, and in saves that kept none)
-        if dry_ground is not None and dry_ground.shape != self.free.shape:
+        if (dry_ground := arrays.get("dry_ground")) is not None and dry_ground.shape != self.free.shape:  # (none before a dry run)
             raise ValueError(f"the map's array 'dry_ground' is not of shape {self.free.shape}")
         self.dry_ground = None if dry_ground is None else dry_ground.astype(np.bool_)
         self.grids_replaced()
